@@ -1,0 +1,211 @@
+"""``mvtools convert``: images <-> YUV/Y4M, pixel formats, depth maps <-> z/disparity, previews."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+import numpy as np
+
+from mvtools.cli.inputs import frame_range, open_input_video
+from mvtools.cli.options import frame_range_options, program, video_format_options
+from mvtools.cli.progress import Progress
+from mvtools.color.levels import convert_planes, depth_preview, requantize
+from mvtools.color.space import rgb_to_yuv, yuv_to_rgb
+from mvtools.errors import DataError, UsageError
+from mvtools.geometry.depth import depth_to_z, disparity_to_z, z_to_depth, z_to_disparity
+from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
+from mvtools.io.yuv import YuvFormat, frame_from_luma, open_writer
+
+VIDEO_EXTENSIONS = (".yuv", ".y4m")
+
+
+@click.command(name="convert")
+@click.argument("inputs", nargs=-1, required=True, type=click.Path(dir_okay=False))
+@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
+              help="Output: a .yuv/.y4m video, or an image name with a frame number pattern "
+                   "(frame_%03d.png, z_%03d.pfm) for one image per frame.")
+@video_format_options
+@frame_range_options
+@click.option("--out-pix-fmt", default=None, metavar="NAME",
+              help="Pixel format of a video output (default: the input's, or yuv420p for images).")
+@click.option("--depth", is_flag=True,
+              help="The video is a depth map: only luma counts, bit-depth changes keep "
+                   "v / vmax, chroma of the output is mid-grey, PNG output is grey.")
+@click.option("--preview", is_flag=True,
+              help="8-bit preview images: RGB of texture frames, colour-mapped depth with --depth.")
+@click.option("--to", "to_quantity", type=click.Choice(["z", "disparity"]), default=None,
+              help="Depth video -> PFM images of z, or of disparity (needs --focal, --baseline).")
+@click.option("--from", "from_quantity", type=click.Choice(["z", "disparity"]), default=None,
+              help="PFM images of z or disparity -> depth video.")
+@click.option("--znear", type=float, default=None, help="Depth of the largest depth value.")
+@click.option("--zfar", type=float, default=None, help="Depth of depth value 0.")
+@click.option("--focal", type=float, default=None, help="Focal length in pixels (disparity).")
+@click.option("--baseline", type=float, default=None, help="Baseline, in the units of z (disparity).")
+@program
+def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt, depth, preview,
+            to_quantity, from_quantity, znear, zfar, focal, baseline):
+    """Convert INPUTS into OUTPUT.
+
+    \b
+    Image files (PNG, JPEG, PGM, ...) -> .yuv/.y4m video (BT.601 limited range).
+    Video -> video in another pixel format (--out-pix-fmt), or raw <-> Y4M.
+    Video -> one image per frame (RGB, or grey depth with --depth; --preview for
+    8-bit pictures, colour-mapped for depth).
+    Depth video -> PFM of z or disparity (--depth --to z|disparity, with --znear --zfar).
+    PFM of z or disparity -> depth video (--from z|disparity, with --znear --zfar).
+    """
+    output = Path(output)
+    out_is_video = output.suffix.lower() in VIDEO_EXTENSIONS
+    if not out_is_video and output.suffix.lower() not in IMAGE_EXTENSIONS:
+        raise UsageError(f"unknown output type {output.suffix!r}: use .yuv, .y4m or an image "
+                         f"extension ({', '.join(IMAGE_EXTENSIONS)})", path=output)
+    first = Path(inputs[0])
+    if first.suffix.lower() in VIDEO_EXTENSIONS:
+        if len(inputs) > 1:
+            raise UsageError("give one video input at a time")
+        if to_quantity is not None:
+            _depth_video_to_pfm(first, size, pix_fmt, start_frame, frame_count, output,
+                                to_quantity, _range(znear, zfar), focal, baseline)
+        elif out_is_video:
+            _video_to_video(first, size, pix_fmt, start_frame, frame_count, output,
+                            out_pix_fmt, depth)
+        else:
+            _video_to_images(first, size, pix_fmt, start_frame, frame_count, output, depth, preview)
+        return
+    if not out_is_video:
+        raise UsageError("images convert to a .yuv or .y4m video", path=output)
+    if from_quantity is not None:
+        _pfm_to_depth_video(inputs, output, out_pix_fmt or "yuv420p", from_quantity,
+                            _range(znear, zfar), focal, baseline)
+    else:
+        _images_to_video(inputs, output, out_pix_fmt or "yuv420p")
+
+
+def _range(znear, zfar) -> tuple[float, float]:
+    if znear is None or zfar is None:
+        raise UsageError("--znear and --zfar are needed to interpret depth values")
+    if not 0 < znear < zfar:
+        raise UsageError(f"need 0 < --znear < --zfar, got znear {znear:g}, zfar {zfar:g}")
+    return znear, zfar
+
+
+def _stereo(focal, baseline) -> tuple[float, float]:
+    if focal is None or baseline is None:
+        raise UsageError("--focal and --baseline are needed for disparities")
+    return focal, baseline
+
+
+def _frame_name(pattern: Path, index: int, count: int) -> Path:
+    if "%" in pattern.name:
+        return pattern.with_name(pattern.name % index)
+    if count > 1:
+        raise UsageError("several frames need a numbered output name such as frame_%03d.png",
+                         path=pattern)
+    return pattern
+
+
+def _video_to_video(path, size, pix_fmt, start, count, output, out_pix_fmt, depth):
+    with open_input_video(path, size, pix_fmt) as video:
+        source = video.format
+        target = YuvFormat.from_pix_fmt(source.width, source.height, out_pix_fmt) \
+            if out_pix_fmt else source
+        frames = frame_range([video], start, count)
+        progress = Progress(len(frames), "frames converted")
+        with open_writer(output, target) as writer:
+            for index in frames:
+                writer.write(convert_planes(video.read(index), bits=source.bits,
+                                            to_chroma=target.chroma, to_bits=target.bits, depth=depth))
+                progress.advance()
+
+
+def _video_to_images(path, size, pix_fmt, start, count, output, depth, preview):
+    with open_input_video(path, size, pix_fmt) as video:
+        bits = video.format.bits
+        frames = frame_range([video], start, count)
+        progress = Progress(len(frames), "frames written")
+        for index in frames:
+            planes = video.read(index)
+            if depth:
+                image = depth_preview(planes[0], bits=bits) if preview else np.array(planes[0])
+            else:
+                image = yuv_to_rgb(planes, bits=bits)
+                if preview and bits > 8:
+                    image = requantize(image, bits, 8)
+            write_image(_frame_name(output, index, len(frames)), image)
+            progress.advance()
+
+
+def _depth_video_to_pfm(path, size, pix_fmt, start, count, output, quantity, depth_range,
+                        focal, baseline):
+    if output.suffix.lower() != ".pfm":
+        raise UsageError("--to writes PFM images (e.g. z_%03d.pfm)", path=output)
+    if quantity == "disparity":
+        focal, baseline = _stereo(focal, baseline)
+    with open_input_video(path, size, pix_fmt) as video:
+        frames = frame_range([video], start, count)
+        for index in frames:
+            z = depth_to_z(video.read(index)[0], *depth_range, bits=video.format.bits)
+            values = z if quantity == "z" else z_to_disparity(z, focal, baseline)
+            write_image(_frame_name(output, index, len(frames)), values.astype(np.float32))
+
+
+def _pfm_to_depth_video(inputs, output, out_pix_fmt, quantity, depth_range, focal, baseline):
+    if quantity == "disparity":
+        focal, baseline = _stereo(focal, baseline)
+    target = None
+    with _video_writer_for_images(output) as writer:
+        for path in inputs:
+            values = read_image(path)
+            if values.ndim != 2 or values.dtype.kind != "f":
+                raise DataError("expected a one-channel PFM of z or disparity", path=path)
+            z = values if quantity == "z" else disparity_to_z(values, focal, baseline)
+            if target is None:
+                target = YuvFormat.from_pix_fmt(values.shape[1], values.shape[0], out_pix_fmt)
+                writer.start(target)
+            _check_size(values.shape, target, path)
+            writer.write(frame_from_luma(target, z_to_depth(z, *depth_range, bits=target.bits)))
+
+
+def _images_to_video(inputs, output, out_pix_fmt):
+    target = None
+    with _video_writer_for_images(output) as writer:
+        for path in inputs:
+            image = read_image(path)
+            if target is None:
+                target = YuvFormat.from_pix_fmt(image.shape[1], image.shape[0], out_pix_fmt)
+                writer.start(target)
+            _check_size(image.shape, target, path)
+            if image.ndim == 2:
+                bits = 8 if image.dtype == np.uint8 else 16
+                writer.write(convert_planes((image,), bits=bits, to_chroma=target.chroma,
+                                            to_bits=target.bits))
+            else:
+                writer.write(rgb_to_yuv(image, chroma=target.chroma, bits=target.bits))
+
+
+def _check_size(shape, target: YuvFormat, path) -> None:
+    if (shape[1], shape[0]) != target.size:
+        raise DataError(f"image is {shape[1]}x{shape[0]}, the first one {target.width}x{target.height}",
+                        path=path)
+
+
+class _video_writer_for_images:
+    """A video writer opened when the first image tells the size; removed on error."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        self.writer = None
+
+    def start(self, fmt: YuvFormat) -> None:
+        self.writer = open_writer(self.path, fmt)
+
+    def write(self, planes) -> None:
+        self.writer.write(planes)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, exc_type, exc, tb):
+        if self.writer is not None:
+            self.writer.__exit__(exc_type, exc, tb)

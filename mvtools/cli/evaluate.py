@@ -1,0 +1,208 @@
+"""``mvtools evaluate``: score a video against a reference, or a disparity map against ground truth."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import click
+import numpy as np
+
+from mvtools.cli.inputs import frame_range, open_input_video
+from mvtools.cli.options import frame_range_options, program, video_format_options
+from mvtools.cli.progress import Progress
+from mvtools.errors import DataError, UsageError
+from mvtools.io.images import read_image
+from mvtools.io.middlebury import MIDDLEBURY_SETS, read_ground_truth, read_nonoccluded_mask
+from mvtools.metrics import iv_psnr, nonoccluded_from_other_view, plane_psnr, score_disparity, ssim, yuv_psnr
+
+VIDEO_METRICS = ("psnr", "ssim", "ivpsnr")
+
+
+@click.command(name="evaluate")
+@click.argument("reference", type=click.Path(dir_okay=False))
+@click.argument("test", type=click.Path(dir_okay=False))
+@click.option("--metric", "metrics", multiple=True, type=click.Choice(VIDEO_METRICS),
+              help="Video metrics to compute (repeatable; default: all). psnr gives Y, U, V "
+                   "and the 6:1:1 YUV-PSNR; ssim is on luma; ivpsnr is MPEG's IV-PSNR.")
+@video_format_options
+@frame_range_options
+@click.option("--disparity", is_flag=True,
+              help="Score TEST, a disparity map (PFM, or PNG/PGM divided by --disparity-scale), "
+                   "against REFERENCE, a ground-truth disparity map.")
+@click.option("--gt-scale", type=float, default=None,
+              help="Ground-truth file value / scale = disparity in pixels (known for the "
+                   "Middlebury sets, found from the file's path).")
+@click.option("--disparity-scale", type=float, default=1.0, show_default=True,
+              help="Disparity-map file value / scale = disparity in pixels (ignored for PFM).")
+@click.option("--nonocc", "nonocc_mask", type=click.Path(dir_okay=False), default=None,
+              help="Non-occlusion mask, non-zero = non-occluded (Middlebury occl.png).")
+@click.option("--other-gt", type=click.Path(dir_okay=False), default=None,
+              help="Ground truth of the other view: non-occluded pixels are those it confirms "
+                   "within 1 px (Middlebury 2005 rule).")
+@click.option("--threshold", "thresholds", type=float, multiple=True,
+              help="Error thresholds in pixels (repeatable; default 1 and 2).")
+@click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
+@program
+def command(reference, test, metrics, size, pix_fmt, start_frame, frame_count, disparity,
+            gt_scale, disparity_scale, nonocc_mask, other_gt, thresholds, as_json):
+    """Compare TEST with REFERENCE and print the scores.
+
+    Videos (raw YUV or Y4M): PSNR per plane, YUV-PSNR (6:1:1), SSIM and IV-PSNR per
+    frame and their mean. With --disparity: the Middlebury scores (percentage of
+    pixels whose error exceeds each threshold, over all known pixels and over
+    non-occluded ones).
+    """
+    if disparity:
+        result = _evaluate_disparity(Path(reference), Path(test), gt_scale, disparity_scale,
+                                     nonocc_mask, other_gt, thresholds or (1.0, 2.0))
+        click.echo(_to_json(result) if as_json else _disparity_table(result))
+        return
+    result = _evaluate_video(reference, test, size, pix_fmt, start_frame, frame_count,
+                             metrics or VIDEO_METRICS)
+    click.echo(_to_json(result) if as_json else _video_table(result))
+
+
+def _evaluate_video(reference, test, size, pix_fmt, start_frame, frame_count, metrics) -> dict:
+    with open_input_video(reference, size, pix_fmt) as ref_video, \
+            open_input_video(test, size, pix_fmt) as test_video:
+        fmt = ref_video.format
+        if test_video.format != fmt:
+            raise DataError(f"the test video is {test_video.format}, the reference {fmt}",
+                            path=test)
+        frames = frame_range([ref_video, test_video], start_frame, frame_count)
+        progress = Progress(len(frames), "frames scored")
+        rows = []
+        for index in frames:
+            rows.append({"frame": index,
+                         **_frame_scores(ref_video.read(index), test_video.read(index), fmt.bits, metrics)})
+            progress.advance()
+    columns = [key for key in rows[0] if key != "frame"]
+    mean = {key: float(np.mean([row[key] for row in rows])) for key in columns}
+    return {"reference": str(reference), "test": str(test), "format": str(fmt),
+            "frames": rows, "mean": mean}
+
+
+def _frame_scores(ref_planes, test_planes, bits: int, metrics) -> dict[str, float]:
+    scores = {}
+    if "psnr" in metrics:
+        for name, value in zip(("Y-PSNR", "U-PSNR", "V-PSNR"),
+                               plane_psnr(ref_planes, test_planes, bits=bits)):
+            scores[name] = value
+        if len(ref_planes) == 3:
+            scores["YUV-PSNR"] = yuv_psnr(ref_planes, test_planes, bits=bits)
+    if "ssim" in metrics:
+        scores["Y-SSIM"] = ssim(ref_planes[0], test_planes[0], max_value=2 ** bits - 1)
+    if "ivpsnr" in metrics:
+        scores["IV-PSNR"] = iv_psnr(ref_planes, test_planes, bits=bits)
+    return scores
+
+
+def _video_table(result: dict) -> str:
+    columns = list(result["mean"])
+    lines = [f"reference {result['reference']}", f"test      {result['test']}  ({result['format']})",
+             " frame" + "".join(f"{name:>10}" for name in columns)]
+    for row in result["frames"]:
+        lines.append(f"{row['frame']:>6}" + "".join(_cell(row[name], name) for name in columns))
+    lines.append("  mean" + "".join(_cell(result["mean"][name], name) for name in columns))
+    return "\n".join(lines)
+
+
+def _cell(value: float, name: str) -> str:
+    return f"{value:>10.4f}" if name.endswith("SSIM") else f"{value:>10.2f}"
+
+
+def _to_json(result: dict) -> str:
+    """Strict JSON: an infinite PSNR (identical frames) is written as the string "inf"."""
+    def finite(value):
+        if isinstance(value, float) and not math.isfinite(value):
+            return str(value)
+        if isinstance(value, dict):
+            return {key: finite(item) for key, item in value.items()}
+        if isinstance(value, list):
+            return [finite(item) for item in value]
+        return value
+    return json.dumps(finite(result), indent=2, allow_nan=False)
+
+
+def _known_set(path: Path):
+    """The Middlebury set whose ground-truth file this path is, if any."""
+    posix = path.resolve().as_posix()
+    for entry in MIDDLEBURY_SETS.values():
+        if posix.endswith("/" + entry.ground_truth):
+            return entry
+    return None
+
+
+def _evaluate_disparity(gt_path: Path, disparity_path: Path, gt_scale, disparity_scale,
+                        nonocc_mask, other_gt, thresholds) -> dict:
+    known_set = _known_set(gt_path)
+    if gt_scale is None:
+        if known_set is None:
+            raise UsageError("the ground truth's scale is unknown: give --gt-scale "
+                             "(file value / scale = disparity in pixels)", path=gt_path)
+        gt_scale = known_set.scale
+    ground_truth, known = read_ground_truth(gt_path, scale=gt_scale)
+    estimate = _read_disparity(disparity_path, disparity_scale)
+    if estimate.shape != ground_truth.shape:
+        raise DataError(f"the disparity map is {estimate.shape[1]}x{estimate.shape[0]}, the ground "
+                        f"truth {ground_truth.shape[1]}x{ground_truth.shape[0]}", path=disparity_path)
+    middlebury_root = gt_path.resolve().parents[2] if known_set is not None else None
+    if nonocc_mask is None and other_gt is None and known_set is not None:
+        nonocc_mask = (middlebury_root / known_set.nonoccluded_mask
+                       if known_set.nonoccluded_mask else None)
+        other_gt = (middlebury_root / known_set.right_ground_truth
+                    if known_set.right_ground_truth else None)
+    nonoccluded = None
+    if nonocc_mask is not None:
+        nonoccluded = read_nonoccluded_mask(nonocc_mask)
+        _same_shape(nonoccluded, ground_truth, nonocc_mask)
+    elif other_gt is not None:
+        other, _ = read_ground_truth(other_gt, scale=gt_scale)
+        _same_shape(other, ground_truth, other_gt)
+        nonoccluded = nonoccluded_from_other_view(ground_truth, other)
+    score = score_disparity(estimate, ground_truth, known=known, nonoccluded=nonoccluded,
+                            thresholds=thresholds)
+    return {
+        "ground_truth": str(gt_path), "disparity": str(disparity_path), "gt_scale": gt_scale,
+        "bad_all": {f"{t:g}": v for t, v in score.bad_all.items()},
+        "bad_nonocc": None if score.bad_nonocc is None
+        else {f"{t:g}": v for t, v in score.bad_nonocc.items()},
+        "mean_abs_error": score.mean_abs_error, "rms_error": score.rms_error,
+        "known_pixels": score.known_pixels, "nonocc_pixels": score.nonocc_pixels,
+        "invalid_pixels": score.invalid_pixels,
+    }
+
+
+def _read_disparity(path: Path, scale: float) -> np.ndarray:
+    values = read_image(path)
+    if values.ndim != 2:
+        raise DataError("a disparity map has one channel, this image has 3", path=path)
+    if values.dtype.kind == "f":
+        return values.astype(np.float64)
+    if not scale > 0:
+        raise UsageError(f"--disparity-scale must be positive, got {scale}")
+    return values.astype(np.float64) / scale
+
+
+def _same_shape(mask: np.ndarray, ground_truth: np.ndarray, path) -> None:
+    if mask.shape != ground_truth.shape:
+        raise DataError(f"size {mask.shape[1]}x{mask.shape[0]} differs from the ground truth's "
+                        f"{ground_truth.shape[1]}x{ground_truth.shape[0]}", path=path)
+
+
+def _disparity_table(result: dict) -> str:
+    thresholds = list(result["bad_all"])
+    lines = [f"ground truth {result['ground_truth']} (value / {result['gt_scale']:g})",
+             f"disparity    {result['disparity']}",
+             "region     pixels" + "".join(f"{'bad ' + t:>10}" for t in thresholds)]
+    lines.append(f"{'all':<8}{result['known_pixels']:>9}"
+                 + "".join(f"{result['bad_all'][t]:>9.2f}%" for t in thresholds))
+    if result["bad_nonocc"] is not None:
+        lines.append(f"{'nonocc':<8}{result['nonocc_pixels']:>9}"
+                     + "".join(f"{result['bad_nonocc'][t]:>9.2f}%" for t in thresholds))
+    lines.append(f"mean abs error {result['mean_abs_error']:.3f} px, RMS {result['rms_error']:.3f} px"
+                 + (f", {result['invalid_pixels']} known pixels without estimate"
+                    if result["invalid_pixels"] else ""))
+    return "\n".join(lines)

@@ -1,0 +1,46 @@
+"""The umbrella program ``mvtools`` and the separate executables mvtools-PROGRAM."""
+
+from __future__ import annotations
+
+import click
+
+from mvtools import __version__
+from mvtools.cli import convert, evaluate
+from mvtools.cli.planned import PLANNED, planned_command
+
+PROGRAMS: dict[str, click.Command] = {
+    **{name: planned_command(name) for name in PLANNED},
+    "evaluate": evaluate.command,
+    "convert": convert.command,
+}
+
+
+@click.group(commands=PROGRAMS, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="mvtools")
+def cli():
+    """Multiview video tools: calibration, rectification, colour correction, depth
+    estimation, view synthesis, packing, evaluation and conversion.
+
+    Reads MPEG camera parameter files and VSRS/DERS configuration files unmodified and
+    exchanges raw YUV files. Each program is also installed as mvtools-PROGRAM.
+    """
+
+
+def _standalone(name: str):
+    def main():
+        PROGRAMS[name].main(prog_name=f"mvtools-{name}",
+                            help_option_names=["-h", "--help"])
+
+    main.__name__ = f"{name.replace('-', '_')}_cli"
+    return main
+
+
+calibrate_cli = _standalone("calibrate")
+rectify_cli = _standalone("rectify")
+colorcorrect_cli = _standalone("colorcorrect")
+estimate_depth_cli = _standalone("estimate-depth")
+synthesize_cli = _standalone("synthesize")
+pack_cli = _standalone("pack")
+evaluate_cli = _standalone("evaluate")
+convert_cli = _standalone("convert")
+scene_cli = _standalone("scene")

@@ -1,0 +1,104 @@
+"""Options shared by every program, and the edge where errors become exit codes."""
+
+from __future__ import annotations
+
+import functools
+import logging
+import sys
+
+import click
+
+from mvtools.errors import MvtoolsError
+
+LOG = logging.getLogger("mvtools")
+
+
+def _set_log_level(ctx: click.Context, verbose: int, quiet: int) -> None:
+    level = logging.INFO + 10 * (quiet - verbose)
+    # Errors are always shown: -q can hide information and warnings, not failures.
+    level = min(max(level, logging.DEBUG), logging.ERROR)
+    handler = logging.StreamHandler(sys.stderr)
+    program = ctx.command_path or "mvtools"
+    handler.setFormatter(_ProgramFormatter(program))
+    LOG.handlers[:] = [handler]
+    LOG.setLevel(level)
+    LOG.propagate = False
+
+
+class _ProgramFormatter(logging.Formatter):
+    """``mvtools-synthesize: warning: ...``; plain information carries no level word."""
+
+    def __init__(self, program: str):
+        super().__init__()
+        self.program = program
+
+    def format(self, record: logging.LogRecord) -> str:
+        message = record.getMessage()
+        if record.levelno >= logging.WARNING:
+            return f"{self.program}: {record.levelname.lower()}: {message}"
+        return f"{self.program}: {message}"
+
+
+def program(function):
+    """Decorate a click callback: add -v/-q and turn mvtools errors into one-line messages.
+
+    Usage and config errors exit with 2, data errors with 1, as ``MvtoolsError.exit_code``
+    says; operating-system errors on files (permission, disk full) exit with 1.
+    """
+
+    @click.option("-v", "--verbose", count=True, help="More messages on stderr (repeatable).")
+    @click.option("-q", "--quiet", count=True, help="Fewer messages on stderr (repeatable).")
+    @click.pass_context
+    @functools.wraps(function)
+    def wrapper(ctx: click.Context, verbose: int, quiet: int, **kwargs):
+        _set_log_level(ctx, verbose, quiet)
+        try:
+            return function(**kwargs)
+        except MvtoolsError as error:
+            LOG.error("%s", error)
+            ctx.exit(error.exit_code)
+        except OSError as error:
+            where = f"{error.filename}: " if error.filename else ""
+            LOG.error("%s%s", where, error.strerror or error)
+            ctx.exit(1)
+
+    return wrapper
+
+
+data_dir_option = click.option(
+    "--data-dir", "data_dirs", multiple=True, type=click.Path(file_okay=False, exists=True),
+    help="Folder where relative input paths of the config file are also looked for "
+         "(repeatable; after the current folder and the config file's folder).")
+
+overrides_argument = click.argument("overrides", nargs=-1, metavar="[Key=Value]...")
+
+
+def _parse_size(ctx, param, value):
+    if value is None:
+        return None
+    try:
+        width, height = (int(part) for part in value.lower().split("x"))
+    except ValueError:
+        raise click.BadParameter(f"{value!r} is not WIDTHxHEIGHT (e.g. 1024x768)") from None
+    if width < 1 or height < 1:
+        raise click.BadParameter(f"{value!r}: width and height must be positive")
+    return width, height
+
+
+def video_format_options(function):
+    """``--size WxH`` and ``--pix-fmt`` for raw YUV inputs (names and Y4M carry their own)."""
+    function = click.option(
+        "--pix-fmt", default=None, metavar="NAME",
+        help="Pixel format of raw YUV inputs, ffmpeg names: yuv420p (default when only the "
+             "size is given and the file size agrees), yuv420p10le, yuv444p, gray, gray16le...")(function)
+    return click.option(
+        "--size", callback=_parse_size, default=None, metavar="WxH",
+        help="Picture size of raw YUV inputs whose name does not carry it (name_1024x768_yuv420p.yuv).")(function)
+
+
+def frame_range_options(function):
+    """``--start-frame`` and ``--frames``, as VSRS's StartFrame and TotalNumberOfFrames."""
+    function = click.option("--frames", "frame_count", type=click.IntRange(min=1), default=None,
+                            help="Number of frames to process (default: all).")(function)
+    return click.option("--start-frame", type=click.IntRange(min=0), default=0, show_default=True,
+                        help="First frame to process.")(function)

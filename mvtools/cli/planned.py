@@ -1,0 +1,47 @@
+"""Programs whose implementation has not landed yet.
+
+Each one already states its purpose in ``--help`` and accepts its future arguments, but
+says that it is not implemented and exits with code 2. When a program lands, its own
+module replaces its entry here.
+"""
+
+from __future__ import annotations
+
+import click
+
+from mvtools.cli.options import program
+from mvtools.errors import UsageError
+
+PLANNED = {
+    "calibrate": (
+        "Calibrate a camera array from checkerboard captures: intrinsics, lens distortion "
+        "and joint extrinsics, written as an MPEG camera parameter file.", 5),
+    "rectify": (
+        "Remove lens distortion and rectify a camera array (pair or linear array), writing "
+        "the rectified YUVs and the new camera parameter file.", 5),
+    "colorcorrect": (
+        "Make the colours of the views agree: per-channel look-up tables to a reference view, "
+        "to the average of the views or to a colour chart.", 6),
+    "estimate-depth": (
+        "Estimate depth maps from several views (local, semi-global, graph cuts, plane "
+        "sweeping), reading DERS configuration files unmodified.", 4),
+    "synthesize": (
+        "Synthesize virtual views by depth-image-based rendering, reading VSRS configuration "
+        "files unmodified.", 3),
+    "pack": (
+        "Pack views into frame-compatible layouts and texture+depth atlases, unpack them, "
+        "and run compression experiments with real encoders.", 7),
+}
+
+
+def planned_command(name: str) -> click.Command:
+    purpose, issue = PLANNED[name]
+
+    @click.command(name=name, help=f"{purpose}\n\nNot implemented yet (issue #{issue}).",
+                   context_settings={"ignore_unknown_options": True})
+    @click.argument("arguments", nargs=-1, type=click.UNPROCESSED)
+    @program
+    def command(arguments):
+        raise UsageError(f"{name} is not implemented yet (issue #{issue})")
+
+    return command

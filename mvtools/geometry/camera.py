@@ -1,0 +1,90 @@
+"""The camera model shared by every program.
+
+Convention (VSRS 4.x, DERS 6.1): ``t`` is the camera centre in world coordinates
+and ``R`` rotates world into camera coordinates, ``x_cam = R (X - t)``. The camera
+looks along its +z axis, x to the right and y down in the image.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(eq=False)
+class Camera:
+    """A pinhole camera with optional lens distortion.
+
+    Attributes
+    ----------
+    name : str
+        The camera's name as in the camera parameter file.
+    K : ndarray, shape (3, 3)
+        Intrinsic matrix ``[[fx, s, cx], [0, fy, cy], [0, 0, 1]]`` in pixels.
+    R : ndarray, shape (3, 3)
+        Rotation from world to camera coordinates.
+    t : ndarray, shape (3,)
+        Camera centre in world coordinates.
+    distortion : ndarray, shape (n,)
+        Brown-Conrady coefficients in OpenCV order ``(k1, k2, p1, p2, k3)``;
+        shorter arrays mean the missing ones are zero. MPEG files store k1, k2.
+    size : tuple of int or None
+        ``(width, height)`` in pixels when known.
+    depth_range : tuple of float or None
+        ``(z_near, z_far)`` when the file gives it (MPEG-I JSON).
+    """
+
+    name: str
+    K: np.ndarray
+    R: np.ndarray = field(default_factory=lambda: np.eye(3))
+    t: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    distortion: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    size: tuple[int, int] | None = None
+    depth_range: tuple[float, float] | None = None
+
+    def __post_init__(self):
+        self.K = np.asarray(self.K, dtype=np.float64).reshape(3, 3)
+        self.R = np.asarray(self.R, dtype=np.float64).reshape(3, 3)
+        self.t = np.asarray(self.t, dtype=np.float64).reshape(3)
+        self.distortion = np.asarray(self.distortion, dtype=np.float64).reshape(-1)
+
+    @property
+    def fx(self) -> float:
+        return float(self.K[0, 0])
+
+    @property
+    def fy(self) -> float:
+        return float(self.K[1, 1])
+
+    @property
+    def cx(self) -> float:
+        return float(self.K[0, 2])
+
+    @property
+    def cy(self) -> float:
+        return float(self.K[1, 2])
+
+    @property
+    def translation(self) -> np.ndarray:
+        """The extrinsic translation ``-R t`` (OpenCV's ``tvec``), shape (3,)."""
+        return -self.R @ self.t
+
+    @property
+    def extrinsic(self) -> np.ndarray:
+        """``[R | -R t]``, shape (3, 4)."""
+        return np.hstack([self.R, self.translation[:, None]])
+
+    @property
+    def projection(self) -> np.ndarray:
+        """``P = K [R | -R t]``, shape (3, 4)."""
+        return self.K @ self.extrinsic
+
+    @property
+    def optical_axis(self) -> np.ndarray:
+        """The viewing direction in world coordinates, shape (3,)."""
+        return self.R[2].copy()
+
+    def __repr__(self) -> str:
+        return (f"Camera(name={self.name!r}, fx={self.fx:g}, fy={self.fy:g}, cx={self.cx:g}, "
+                f"cy={self.cy:g}, t={self.t.tolist()}, size={self.size})")
