@@ -223,6 +223,7 @@ class VsrsParams(_ProgramParams):
     """Parameters of view synthesis from two reference views, as VSRS 4.2 reads them."""
 
     program: ClassVar[str] = "VSRS"
+    camera_file_field: ClassVar[str] = "camera_parameter_file"
 
     depth_type: int = _param(
         "DepthType", 0, "0: depth measured from the camera, 1: from the world origin",
@@ -352,6 +353,7 @@ class DersParams(_ProgramParams):
     """
 
     program: ClassVar[str] = "DERS"
+    camera_file_field: ClassVar[str] = "file_camera_parameter"
 
     depth_type: int = _param(
         "DepthType", 0, "0: depth measured from the camera, 1: from the world origin",

@@ -380,7 +380,7 @@ def test_missing_input_lists_every_place_tried(tmp_path, monkeypatch):
     with pytest.raises(UsageError) as info:
         resolve_input_path(entry, data_dirs=[data])
     message = str(info.value)
-    assert message.startswith(f"{config}:2: LeftViewImageName: file '..\\\\seq\\\\left.yuv' "
+    assert message.startswith(f"{config}:2: LeftViewImageName: file '..\\seq\\left.yuv' "
                               "not found (tried 7 places: ")
     tried = [work / ".." / "seq" / "left.yuv",
              tmp_path / "cfg" / ".." / "seq" / "left.yuv",

@@ -14,8 +14,9 @@ from mvtools.cli.options import frame_range_options, program, video_format_optio
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
 from mvtools.io.images import read_image
-from mvtools.io.middlebury import MIDDLEBURY_SETS, read_ground_truth, read_nonoccluded_mask
-from mvtools.metrics import iv_psnr, nonoccluded_from_other_view, plane_psnr, score_disparity, ssim, yuv_psnr
+from mvtools.datasets import nonoccluded_pixels
+from mvtools.io.middlebury import middlebury_set_for, read_ground_truth
+from mvtools.metrics import iv_psnr, plane_psnr, score_disparity, ssim, yuv_psnr
 
 VIDEO_METRICS = ("psnr", "ssim", "ivpsnr")
 
@@ -126,18 +127,9 @@ def _to_json(result: dict) -> str:
     return json.dumps(finite(result), indent=2, allow_nan=False)
 
 
-def _known_set(path: Path):
-    """The Middlebury set whose ground-truth file this path is, if any."""
-    posix = path.resolve().as_posix()
-    for entry in MIDDLEBURY_SETS.values():
-        if posix.endswith("/" + entry.ground_truth):
-            return entry
-    return None
-
-
 def _evaluate_disparity(gt_path: Path, disparity_path: Path, gt_scale, disparity_scale,
                         nonocc_mask, other_gt, thresholds) -> dict:
-    known_set = _known_set(gt_path)
+    known_set = middlebury_set_for(gt_path)
     if gt_scale is None:
         if known_set is None:
             raise UsageError("the ground truth's scale is unknown: give --gt-scale "
@@ -148,20 +140,12 @@ def _evaluate_disparity(gt_path: Path, disparity_path: Path, gt_scale, disparity
     if estimate.shape != ground_truth.shape:
         raise DataError(f"the disparity map is {estimate.shape[1]}x{estimate.shape[0]}, the ground "
                         f"truth {ground_truth.shape[1]}x{ground_truth.shape[0]}", path=disparity_path)
-    middlebury_root = gt_path.resolve().parents[2] if known_set is not None else None
     if nonocc_mask is None and other_gt is None and known_set is not None:
-        nonocc_mask = (middlebury_root / known_set.nonoccluded_mask
-                       if known_set.nonoccluded_mask else None)
-        other_gt = (middlebury_root / known_set.right_ground_truth
-                    if known_set.right_ground_truth else None)
-    nonoccluded = None
-    if nonocc_mask is not None:
-        nonoccluded = read_nonoccluded_mask(nonocc_mask)
-        _same_shape(nonoccluded, ground_truth, nonocc_mask)
-    elif other_gt is not None:
-        other, _ = read_ground_truth(other_gt, scale=gt_scale)
-        _same_shape(other, ground_truth, other_gt)
-        nonoccluded = nonoccluded_from_other_view(ground_truth, other)
+        root = gt_path.resolve().parents[2]
+        nonocc_mask = root / known_set.nonoccluded_mask if known_set.nonoccluded_mask else None
+        other_gt = root / known_set.right_ground_truth if known_set.right_ground_truth else None
+    nonoccluded = nonoccluded_pixels(ground_truth, known, scale=gt_scale, mask_path=nonocc_mask,
+                                     other_view_path=other_gt)
     score = score_disparity(estimate, ground_truth, known=known, nonoccluded=nonoccluded,
                             thresholds=thresholds)
     return {
@@ -184,12 +168,6 @@ def _read_disparity(path: Path, scale: float) -> np.ndarray:
     if not scale > 0:
         raise UsageError(f"--disparity-scale must be positive, got {scale}")
     return values.astype(np.float64) / scale
-
-
-def _same_shape(mask: np.ndarray, ground_truth: np.ndarray, path) -> None:
-    if mask.shape != ground_truth.shape:
-        raise DataError(f"size {mask.shape[1]}x{mask.shape[0]} differs from the ground truth's "
-                        f"{ground_truth.shape[1]}x{ground_truth.shape[0]}", path=path)
 
 
 def _disparity_table(result: dict) -> str:

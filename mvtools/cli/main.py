@@ -5,13 +5,14 @@ from __future__ import annotations
 import click
 
 from mvtools import __version__
-from mvtools.cli import convert, evaluate
+from mvtools.cli import convert, evaluate, inspect
 from mvtools.cli.planned import PLANNED, planned_command
 
 PROGRAMS: dict[str, click.Command] = {
     **{name: planned_command(name) for name in PLANNED},
     "evaluate": evaluate.command,
     "convert": convert.command,
+    "inspect": inspect.command,
 }
 
 
@@ -43,4 +44,5 @@ synthesize_cli = _standalone("synthesize")
 pack_cli = _standalone("pack")
 evaluate_cli = _standalone("evaluate")
 convert_cli = _standalone("convert")
+inspect_cli = _standalone("inspect")
 scene_cli = _standalone("scene")

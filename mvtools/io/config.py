@@ -368,7 +368,7 @@ def resolve_input_path(entry: ConfigEntry, *, data_dirs: Iterable[str | os.PathL
         return candidates[0]
     places = f"{len(candidates)} place{'s' if len(candidates) != 1 else ''}"
     tried = ", ".join(str(candidate) for candidate in candidates)
-    raise entry.error(f"file {entry.value!r} not found (tried {places}: {tried}); "
+    raise entry.error(f"file '{entry.value}' not found (tried {places}: {tried}); "
                       "give the folder holding it with --data-dir", UsageError)
 
 

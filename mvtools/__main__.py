@@ -1,0 +1,3 @@
+from mvtools.cli.main import cli
+
+cli(prog_name="mvtools")

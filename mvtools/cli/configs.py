@@ -1,0 +1,99 @@
+"""Loading a VSRS or DERS configuration the same way in every program.
+
+The configuration file, then ``Key=Value`` items, then command-line options (which
+are derived from the same parameter table) make the parameters; the input files
+they name are then found and the cameras they name are read.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterable, Mapping
+
+from mvtools.errors import ConfigError
+from mvtools.geometry.camera import Camera
+from mvtools.io.cameras import get_camera, read_cameras
+from mvtools.io.config import (load_params, override_entries, param_entry, parse_overrides,
+                               read_config, resolve_input_path, resolve_output_path)
+from mvtools.io.yuv import VideoReader, YuvFormat, format_from_name, open_video
+from mvtools.params import Kind, param_specs
+
+
+@dataclass
+class LoadedConfig:
+    """Parameters with their files found and their cameras read.
+
+    Attributes
+    ----------
+    params : VsrsParams or DersParams
+    inputs : dict of str to Path
+        Field name -> input file found, for every non-empty input-file parameter.
+    outputs : dict of str to Path
+        Field name -> output file, for every non-empty output-file parameter.
+    cameras : dict of str to Camera
+        Field name (``left_camera_name`` ...) -> camera, for every non-empty name.
+    """
+
+    params: Any
+    inputs: dict[str, Path] = field(default_factory=dict)
+    outputs: dict[str, Path] = field(default_factory=dict)
+    cameras: dict[str, Camera] = field(default_factory=dict)
+
+    @property
+    def video_fields(self) -> list[str]:
+        """Input-file fields that are videos (all but the camera parameter file)."""
+        return [name for name in self.inputs if name != self.params.camera_file_field]
+
+    def video_format(self, name: str) -> YuvFormat:
+        """Format of an input video: the configured size, 8-bit 4:2:0 unless its name says
+        otherwise (10/16-bit or 4:0:0 depth maps named the ffmpeg way)."""
+        size = (self.params.source_width, self.params.source_height)
+        named = format_from_name(self.inputs[name])
+        if named is not None and named.size == size:
+            return named
+        return YuvFormat(*size)
+
+    def open_video(self, name: str) -> VideoReader:
+        return open_video(self.inputs[name], self.video_format(name))
+
+
+def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Iterable[str] = (),
+                options: Mapping[str, Any] | None = None,
+                data_dirs: Iterable[str | os.PathLike] = ()) -> LoadedConfig:
+    """Read parameters of ``cls`` and find their files and cameras.
+
+    Raises
+    ------
+    UsageError, ConfigError
+        Unreadable configuration, bad values (file:line: key: message), input files
+        not found (every place tried is listed), unknown camera names.
+    """
+    entries = read_config(config) if config is not None else {}
+    entries.update(parse_overrides(overrides))
+    entries.update(override_entries(cls, options or {}))
+    params = load_params(cls, entries)
+    loaded = LoadedConfig(params)
+    data_dirs = tuple(data_dirs)
+    for spec in param_specs(cls):
+        if not getattr(params, spec.name):
+            continue
+        if spec.kind is Kind.INPUT_FILE:
+            loaded.inputs[spec.name] = resolve_input_path(param_entry(params, spec.name),
+                                                          data_dirs=data_dirs)
+        elif spec.kind is Kind.OUTPUT_FILE:
+            loaded.outputs[spec.name] = resolve_output_path(param_entry(params, spec.name))
+    camera_file = loaded.inputs.get(cls.camera_file_field)
+    if camera_file is not None:
+        cameras = read_cameras(camera_file)
+        for spec in param_specs(cls):
+            name = getattr(params, spec.name)
+            if spec.name.endswith("_camera_name") and name:
+                try:
+                    loaded.cameras[spec.name] = get_camera(cameras, name)
+                except ConfigError as error:
+                    # Point at the configuration line that asked for the camera.
+                    raise param_entry(params, spec.name).error(
+                        f"{error.message} (in {camera_file})") from None
+    return loaded

@@ -1,0 +1,17 @@
+"""Quality metrics: PSNR, YUV-PSNR, SSIM, IV-PSNR and Middlebury disparity scores.
+
+Arrays in, numbers out: no files here (``mvtools.io.middlebury`` reads the
+Middlebury ground truth).
+"""
+
+from mvtools.metrics.disparity import (
+    DisparityScore, known_ground_truth, nonoccluded_from_other_view, score_disparity)
+from mvtools.metrics.ivpsnr import global_color_shift, iv_psnr
+from mvtools.metrics.psnr import YUV_PSNR_WEIGHTS, plane_psnr, psnr, yuv_psnr
+from mvtools.metrics.ssim import ssim
+
+__all__ = [
+    "psnr", "plane_psnr", "yuv_psnr", "YUV_PSNR_WEIGHTS", "ssim", "iv_psnr",
+    "global_color_shift", "score_disparity", "DisparityScore", "known_ground_truth",
+    "nonoccluded_from_other_view",
+]

@@ -1,0 +1,216 @@
+"""The programs end to end: results against hand-computed values, and bad input
+giving one line naming the place at fault, the right exit code and no output."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mvtools.io.images import read_image, write_image
+from mvtools.io.yuv import YuvFormat, read_frame, write_video
+from shared_data import shared_data
+
+KENDO_ZNEAR, KENDO_ZFAR = 448.251214, 11206.280350
+
+
+def run(*args, cwd=None):
+    completed = subprocess.run([sys.executable, "-m", "mvtools", *map(str, args)],
+                               capture_output=True, text=True, cwd=cwd)
+    return completed.returncode, completed.stdout, completed.stderr
+
+
+def assert_one_line_error(stderr: str, *fragments: str) -> None:
+    lines = [line for line in stderr.splitlines() if "error:" in line]
+    assert len(lines) == 1, stderr
+    assert "Traceback" not in stderr
+    for fragment in fragments:
+        assert fragment in lines[0], lines[0]
+
+
+def leftovers(folder: Path) -> list[str]:
+    return sorted(path.name for path in folder.iterdir())
+
+
+def test_every_program_states_its_purpose():
+    for name in ("calibrate", "rectify", "colorcorrect", "estimate-depth", "synthesize", "pack",
+                 "evaluate", "convert", "inspect"):
+        code, out, _ = run(name, "--help")
+        assert code == 0 and len(out.splitlines()) > 3, name
+
+
+def test_planned_program_says_not_implemented():
+    code, _, err = run("synthesize", "some.cfg")
+    assert code == 2
+    assert_one_line_error(err, "not implemented yet")
+
+
+# --------------------------------------------------------------------- evaluate
+
+def _grey_video(path: Path, values: list[int], shape=(8, 6)) -> YuvFormat:
+    fmt = YuvFormat(shape[1], shape[0])
+    write_video(path, fmt, [tuple(np.full(s, v, np.uint8) for s in fmt.plane_shapes)
+                            for v in values])
+    return fmt
+
+
+def test_evaluate_psnr_per_frame_and_mean(tmp_path):
+    # Frame 0 identical; frame 1 luma off by 5 everywhere: MSE 25, PSNR 10 log10(255^2/25).
+    ref, test = tmp_path / "ref_6x8_yuv420p.yuv", tmp_path / "test_6x8_yuv420p.yuv"
+    _grey_video(ref, [100, 100])
+    fmt = YuvFormat(6, 8)
+    frames = [tuple(np.full(s, 100, np.uint8) for s in fmt.plane_shapes)]
+    frames.append((np.full((8, 6), 105, np.uint8),) + frames[0][1:])
+    write_video(test, fmt, frames)
+    code, out, err = run("evaluate", ref, test, "--metric", "psnr", "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    expected = 10 * np.log10(255 ** 2 / 25)
+    assert result["frames"][0]["Y-PSNR"] == "inf"
+    assert result["frames"][1]["Y-PSNR"] == pytest.approx(expected)
+    assert result["frames"][1]["U-PSNR"] == "inf"
+    assert result["mean"]["Y-PSNR"] == "inf"
+
+
+def test_evaluate_disparity_against_middlebury_ground_truth(tmp_path):
+    teddy = shared_data("middlebury", "2003", "teddy")
+    gt = read_image(teddy / "disp2.png").astype(np.float32) / 4
+    shifted = tmp_path / "shifted.pfm"
+    write_image(shifted, gt + 1.5)
+    code, out, err = run("evaluate", "--disparity", teddy / "disp2.png", shifted, "--json")
+    assert code == 0, err
+    result = json.loads(out)
+    assert result["gt_scale"] == 4          # found from the set table
+    assert result["bad_all"] == {"1": 100.0, "2": 0.0}
+    assert result["bad_nonocc"] == {"1": 100.0, "2": 0.0}
+    assert result["nonocc_pixels"] < result["known_pixels"]
+
+
+# --------------------------------------------------------------------- convert
+
+def test_convert_images_to_yuv444_and_back_is_lossless_for_grey(tmp_path):
+    rng = np.random.default_rng(1)
+    images = []
+    for index in range(2):
+        grey = rng.integers(16, 236, size=(6, 10), dtype=np.uint8)
+        write_image(tmp_path / f"in{index}.png", grey)
+        images.append(grey)
+    video = tmp_path / "v.y4m"
+    code, _, err = run("convert", tmp_path / "in0.png", tmp_path / "in1.png", "-o", video,
+                       "--out-pix-fmt", "gray")
+    assert code == 0, err
+    for index, grey in enumerate(images):
+        assert np.array_equal(read_frame(video, index=index)[0], grey)
+
+
+def test_convert_depth_8_to_16_bit_keeps_meaning_and_z_is_exact(tmp_path):
+    fmt = YuvFormat(4, 2)
+    luma = np.array([[0, 255, 128, 1], [254, 2, 64, 200]], np.uint8)
+    write_video(tmp_path / "d8.yuv", fmt, [(luma, np.full((1, 2), 128, np.uint8),
+                                            np.full((1, 2), 128, np.uint8))])
+    code, _, err = run("convert", tmp_path / "d8.yuv", "--size", "4x2", "--depth",
+                       "--out-pix-fmt", "gray16le", "-o", tmp_path / "d16.yuv")
+    assert code == 0, err
+    d16 = read_frame(tmp_path / "d16.yuv", YuvFormat(4, 2, "400", 16))[0]
+    assert np.array_equal(d16, luma.astype(np.uint16) * 257)   # 65535 / 255 = 257 exactly
+    code, _, err = run("convert", tmp_path / "d16.yuv", "--size", "4x2", "--pix-fmt", "gray16le",
+                       "--depth", "--to", "z", "--znear", 2, "--zfar", 10, "-o", tmp_path / "z.pfm")
+    assert code == 0, err
+    z = read_image(tmp_path / "z.pfm")
+    # 1/z = v/vmax (1/znear - 1/zfar) + 1/zfar, by hand for v = 0, vmax, 128*257.
+    assert z[0, 0] == pytest.approx(10) and z[0, 1] == pytest.approx(2)
+    assert z[0, 2] == pytest.approx(1 / (128 / 255 * (0.5 - 0.1) + 0.1), rel=1e-6)
+    code, _, err = run("convert", tmp_path / "z.pfm", "--from", "z", "--znear", 2, "--zfar", 10,
+                       "-o", tmp_path / "back_4x2_yuv420p.yuv")
+    assert code == 0, err
+    assert np.array_equal(read_frame(tmp_path / "back_4x2_yuv420p.yuv")[0], luma)
+
+
+# --------------------------------------------------------------------- bad input
+
+def test_truncated_yuv_names_file_and_format_and_writes_nothing(tmp_path):
+    source = tmp_path / "in_16x8_yuv420p.yuv"
+    source.write_bytes(bytes(16 * 8 * 3 // 2 * 2 - 7))
+    out = tmp_path / "out"
+    out.mkdir()
+    code, _, err = run("convert", source, "-o", out / "copy.yuv")
+    assert code == 1
+    assert_one_line_error(err, str(source), "not a whole number")
+    assert leftovers(out) == []
+
+
+def test_missing_input_file(tmp_path):
+    code, _, err = run("evaluate", tmp_path / "nothing_8x8_yuv420p.yuv",
+                       tmp_path / "nothing_8x8_yuv420p.yuv")
+    assert code == 2
+    assert_one_line_error(err, "nothing_8x8_yuv420p.yuv", "no such file")
+
+
+def test_camera_block_with_22_numbers(tmp_path):
+    cameras = tmp_path / "cams.txt"
+    numbers = " ".join(["1"] * 22)
+    cameras.write_text(f"camA\n{' '.join(['1'] * 23)}\n\ncamB\n{numbers}\n")
+    code, _, err = run("inspect", cameras, "--as", "cameras")
+    assert code == 2
+    assert_one_line_error(err, f"{cameras}:4", "camB", "22")
+
+
+def _kendo_config(tmp_path, text: str = "") -> Path:
+    kendo = shared_data("mpeg", "kendo")
+    config = tmp_path / "synth.cfg"
+    config.write_text(
+        "SourceWidth 1024\nSourceHeight 768\nTotalNumberOfFrames 1\n"
+        f"LeftNearestDepthValue {KENDO_ZNEAR}\nLeftFarthestDepthValue {KENDO_ZFAR}\n"
+        f"RightNearestDepthValue {KENDO_ZNEAR}\nRightFarthestDepthValue {KENDO_ZFAR}\n"
+        f"CameraParameterFile {kendo / 'config' / 'VSRS' / 'cam_param_kendo.cfg'}\n"
+        "LeftCameraName param_kendo01\nVirtualCameraName param_kendo02\n"
+        "RightCameraName param_kendo03\n"
+        f"LeftViewImageName {kendo / 'kendo_ori_I_1.yuv'}\n"
+        f"RightViewImageName {kendo / 'kendo_ori_I_3.yuv'}\n"
+        f"LeftDepthMapName {kendo / 'kendo_ori_D_1.yuv'}\n"
+        f"RightDepthMapName {kendo / 'kendo_ori_D_3.yuv'}\n"
+        "OutputVirtualViewImageName out.yuv\n" + text)
+    return config
+
+
+def test_valid_configuration_is_described(tmp_path):
+    code, out, err = run("inspect", _kendo_config(tmp_path))
+    assert code == 0, err
+    assert "VSRS configuration" in out and "param_kendo02" in out
+
+
+def test_unknown_camera_name(tmp_path):
+    config = _kendo_config(tmp_path, "VirtualCameraName param_kendo2\n")
+    code, _, err = run("inspect", config)
+    assert code == 2
+    assert_one_line_error(err, f"{config}:17", "VirtualCameraName", "param_kendo2",
+                          "did you mean 'param_kendo02'")
+
+
+def test_znear_not_below_zfar(tmp_path):
+    config = _kendo_config(tmp_path, "LeftNearestDepthValue 20000\n")
+    code, _, err = run("inspect", config)
+    assert code == 2
+    assert_one_line_error(err, "LeftNearestDepthValue")
+    code, _, err = run("convert", "x.pfm", "--from", "z", "--znear", 10, "--zfar", 5,
+                       "-o", tmp_path / "d.yuv")
+    assert code == 2
+    assert_one_line_error(err, "--znear")
+
+
+def test_non_numeric_value(tmp_path):
+    config = _kendo_config(tmp_path, "Precision half\n")
+    code, _, err = run("inspect", config)
+    assert code == 2
+    assert_one_line_error(err, f"{config}:17", "Precision", "'half' is not an integer")
+
+
+def test_missing_file_named_by_configuration(tmp_path):
+    config = _kendo_config(tmp_path, "LeftViewImageName ..\\elsewhere\\left.yuv\n")
+    code, _, err = run("inspect", config)
+    assert code == 2
+    assert_one_line_error(err, f"{config}:17", "LeftViewImageName", "not found", "tried")
