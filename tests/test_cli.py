@@ -214,3 +214,18 @@ def test_missing_file_named_by_configuration(tmp_path):
     code, _, err = run("inspect", config)
     assert code == 2
     assert_one_line_error(err, f"{config}:17", "LeftViewImageName", "not found", "tried")
+
+
+def test_convert_cameras_text_to_json_and_back_keeps_projections(tmp_path):
+    from mvtools.io.cameras import read_cameras
+    source = shared_data("mpeg", "vsrs_camera_parameters", "cam_param_lovebird1_original.txt")
+    code, _, err = run("convert", source, "-o", tmp_path / "c.json", "--size", "1024x768",
+                       "--znear", 2000, "--zfar", 9000)
+    assert code == 0, err
+    code, _, err = run("convert", tmp_path / "c.json", "-o", tmp_path / "c.txt")
+    assert code == 0, err
+    original, back = read_cameras(source), read_cameras(tmp_path / "c.txt")
+    assert list(original) == list(back)
+    for name, camera in original.items():
+        scale = np.abs(camera.projection).max()
+        assert np.allclose(back[name].projection, camera.projection, atol=1e-9 * scale)

@@ -14,7 +14,9 @@ from mvtools.color.levels import convert_planes, depth_preview, requantize
 from mvtools.color.space import rgb_to_yuv, yuv_to_rgb
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import depth_to_z, disparity_to_z, z_to_depth, z_to_disparity
+from mvtools.io.cameras import read_cameras, write_cameras
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
+from mvtools.io.json_cameras import read_json_cameras, write_json_cameras
 from mvtools.io.yuv import YuvFormat, frame_from_luma, open_writer
 
 VIDEO_EXTENSIONS = (".yuv", ".y4m")
@@ -54,13 +56,18 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
     8-bit pictures, colour-mapped for depth).
     Depth video -> PFM of z or disparity (--depth --to z|disparity, with --znear --zfar).
     PFM of z or disparity -> depth video (--from z|disparity, with --znear --zfar).
+    MPEG camera parameter file <-> MPEG-I JSON cameras (.json; --size and
+    --znear/--zfar fill Resolution and Depth_range).
     """
     output = Path(output)
+    first = Path(inputs[0])
+    if ".json" in (output.suffix.lower(), first.suffix.lower()):
+        _convert_cameras(inputs, output, size, znear, zfar)
+        return
     out_is_video = output.suffix.lower() in VIDEO_EXTENSIONS
     if not out_is_video and output.suffix.lower() not in IMAGE_EXTENSIONS:
         raise UsageError(f"unknown output type {output.suffix!r}: use .yuv, .y4m or an image "
                          f"extension ({', '.join(IMAGE_EXTENSIONS)})", path=output)
-    first = Path(inputs[0])
     if first.suffix.lower() in VIDEO_EXTENSIONS:
         if len(inputs) > 1:
             raise UsageError("give one video input at a time")
@@ -80,6 +87,21 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
                             _range(znear, zfar), focal, baseline)
     else:
         _images_to_video(inputs, output, out_pix_fmt or "yuv420p")
+
+
+def _convert_cameras(inputs, output: Path, size, znear, zfar):
+    if len(inputs) != 1:
+        raise UsageError("give one camera file at a time")
+    source = Path(inputs[0])
+    if source.suffix.lower() == ".json":
+        cameras = read_json_cameras(source)
+        if output.suffix.lower() == ".json":
+            write_json_cameras(output, cameras)
+        else:
+            write_cameras(output, cameras)
+        return
+    depth_range = _range(znear, zfar) if (znear, zfar) != (None, None) else None
+    write_json_cameras(output, read_cameras(source), size=size, depth_range=depth_range)
 
 
 def _range(znear, zfar) -> tuple[float, float]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import cv2
 import numpy as np
 
 # MPEG convention for a single YUV-PSNR figure (e.g. the VVC/HEVC common test
@@ -47,18 +48,31 @@ def psnr(ref: np.ndarray, test: np.ndarray, *, max_value: float,
         raise ValueError(f"a plane must be 2-D, got shape {ref.shape}")
     if not max_value > 0:
         raise ValueError(f"max_value must be positive, got {max_value}")
-    diff = ref.astype(np.float64) - test.astype(np.float64)
     if mask is not None:
         mask = np.asarray(mask, dtype=bool)
         if mask.shape != ref.shape:
             raise ValueError(f"mask shape {mask.shape} differs from plane shape {ref.shape}")
         if not mask.any():
             raise ValueError("mask selects no sample: PSNR is undefined")
-        diff = diff[mask]
-    mse = float(np.mean(np.square(diff)))
+    mse = _sum_squared_difference(ref, test, mask) / (ref.size if mask is None
+                                                      else np.count_nonzero(mask))
     if mse == 0.0:
         return float("inf")
     return float(10.0 * np.log10(float(max_value) ** 2 / mse))
+
+
+def _sum_squared_difference(ref: np.ndarray, test: np.ndarray, mask: np.ndarray | None) -> float:
+    # Video samples (uint8/uint16 of one dtype) go through OpenCV's vectorised norm, a
+    # hundred times faster than numpy here; it sums in float64 like the fallback (the two
+    # differ by a few ulps, far below what a PSNR shows).
+    if ref.dtype == test.dtype and ref.dtype in (np.uint8, np.uint16):
+        cv_mask = None if mask is None else mask.view(np.uint8)
+        return float(cv2.norm(np.ascontiguousarray(ref), np.ascontiguousarray(test),
+                              cv2.NORM_L2SQR, mask=cv_mask))
+    diff = ref.astype(np.float64) - test.astype(np.float64)
+    if mask is not None:
+        diff = diff[mask]
+    return float(np.sum(np.square(diff)))
 
 
 def subsampling_factors(luma_shape: tuple[int, int],
