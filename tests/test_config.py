@@ -459,3 +459,11 @@ def test_write_config_refuses_unwritable_value(tmp_path):
     with pytest.raises(UsageError, match="LeftCameraName: .* cannot be written"):
         write_config(path, VsrsParams(left_camera_name='a "b" c'))
     assert not path.exists()
+
+
+@pytest.mark.parametrize("name, cls", [("vsrs_defaults.cfg", VsrsParams), ("ders_defaults.cfg", DersParams)])
+def test_shipped_templates_hold_every_key_with_its_default(name, cls):
+    template = Path(__file__).resolve().parent.parent / "configs" / name
+    entries = read_config(template)
+    assert set(entries) == {spec.key for spec in param_specs(cls)}
+    assert load_params(cls, entries) == cls()
