@@ -171,7 +171,7 @@ def test_file_without_cameras_is_an_error(tmp_path):
 
 
 def test_missing_file_is_a_usage_error(tmp_path):
-    with pytest.raises(UsageError, match="not found"):
+    with pytest.raises(UsageError, match="no such camera parameter file"):
         read_cameras(tmp_path / "absent.txt")
 
 

@@ -228,7 +228,7 @@ def test_duplicate_key_warns_and_last_wins(tmp_path, caplog):
 
 
 def test_missing_config_file(tmp_path):
-    with pytest.raises(UsageError, match="configuration file not found") as info:
+    with pytest.raises(UsageError, match="no such configuration file") as info:
         read_config(tmp_path / "absent.cfg")
     assert not isinstance(info.value, ConfigError)
 

@@ -115,7 +115,7 @@ def test_jpeg_round_trip_is_close(tmp_path):
 
 
 def test_missing_and_undecodable_images(tmp_path):
-    with pytest.raises(UsageError, match="no such file") as info:
+    with pytest.raises(UsageError, match="no such image") as info:
         read_image(tmp_path / "nothing.png")
     assert "nothing.png" in str(info.value)
     bad = tmp_path / "bad.png"

@@ -50,6 +50,7 @@ import numpy as np
 from mvtools.errors import ConfigError, UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.atomic import atomic_output
+from mvtools.io.files import read_text
 
 __all__ = ["read_cameras", "write_cameras", "get_camera", "read_htm_cameras",
            "store_camera", "NUMBERS_PER_CAMERA", "ORTHONORMAL_TOLERANCE"]
@@ -72,22 +73,6 @@ def _is_number(token: str) -> bool:
 class _Token:
     text: str
     line: int
-
-
-def _read_text(path: Path) -> str:
-    try:
-        raw = path.read_bytes()
-    except FileNotFoundError:
-        raise UsageError("camera parameter file not found", path=path) from None
-    except IsADirectoryError:
-        raise UsageError("is a folder, not a camera parameter file", path=path) from None
-    except OSError as err:
-        raise UsageError(f"cannot read camera parameter file: {err.strerror}", path=path) from None
-    try:
-        return raw.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        # Files written on Windows in a local code page: comments may hold any byte.
-        return raw.decode("latin-1")
 
 
 def _tokens(text: str) -> list[_Token]:
@@ -185,7 +170,7 @@ def read_cameras(path: str | os.PathLike, *, transposed_rotation: bool = False
     path = Path(path)
     cameras: dict[str, Camera] = {}
     lines: dict[str, int] = {}
-    for name, numbers in _blocks(_tokens(_read_text(path)), path):
+    for name, numbers in _blocks(_tokens(read_text(path, "camera parameter file")), path):
         rotation_translation = np.array(numbers[11:]).reshape(3, 4)
         rotation = rotation_translation[:, :3]
         camera = Camera(name=name.text, K=numbers[:9],
@@ -307,7 +292,7 @@ def read_htm_cameras(path: str | os.PathLike, *, frame: int = 0) -> dict[str, Ca
     path = Path(path)
     cameras: dict[str, Camera] = {}
     lines: dict[str, int] = {}
-    for number, line in enumerate(_read_text(path).splitlines(), start=1):
+    for number, line in enumerate(read_text(path, "camera parameter file").splitlines(), start=1):
         words = line.split("#", 1)[0].split()
         if not words:
             continue

@@ -31,6 +31,7 @@ from typing import Any, Iterable, Mapping, TypeVar
 import mvtools
 from mvtools.errors import ConfigError, UsageError
 from mvtools.io.atomic import atomic_output
+from mvtools.io.files import read_text
 from mvtools.params import ParamError, ParamSpec, format_value, param_specs
 
 logger = logging.getLogger(__name__)
@@ -101,22 +102,6 @@ def _split_words(text: str, path: str, line: int) -> list[str]:
     return words
 
 
-def _read_text(path: str | os.PathLike) -> str:
-    try:
-        data = Path(path).read_bytes()
-    except FileNotFoundError:
-        raise UsageError("configuration file not found", path=path) from None
-    except IsADirectoryError:
-        raise UsageError("is a folder, not a configuration file", path=path) from None
-    except OSError as err:
-        raise UsageError(f"cannot read configuration file: {err.strerror}", path=path) from None
-    try:
-        return data.decode("utf-8-sig")
-    except UnicodeDecodeError:
-        # Files written on Windows in a local code page: comments may hold any byte.
-        return data.decode("latin-1")
-
-
 def read_config(path: str | os.PathLike) -> dict[str, ConfigEntry]:
     """Read a VSRS/DERS configuration file.
 
@@ -142,7 +127,7 @@ def read_config(path: str | os.PathLike) -> dict[str, ConfigEntry]:
     entries: dict[str, ConfigEntry] = {}
     # Split on "\n" only: a stray "\r" is whitespace to _split_words, so CRLF
     # files leave no carriage return in a value.
-    for number, text in enumerate(_read_text(path).split("\n"), start=1):
+    for number, text in enumerate(read_text(path, "configuration file").split("\n"), start=1):
         words = _split_words(text, name, number)
         if not words:
             continue

@@ -20,6 +20,7 @@ import numpy as np
 
 from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import atomic_output
+from mvtools.io.files import read_bytes
 
 __all__ = ["read_image", "write_image", "read_pfm", "write_pfm", "IMAGE_EXTENSIONS"]
 
@@ -31,17 +32,6 @@ _CV2_EXTENSIONS = {".png": True, ".pgm": True, ".ppm": True, ".pnm": True, ".tif
 IMAGE_EXTENSIONS = (*_CV2_EXTENSIONS, ".pfm")
 
 _PFM_HEADER = re.compile(rb"^(P[Ff])\s+(\d+)\s+(\d+)\s+([-+]?[0-9.]+(?:[eE][-+]?\d+)?)\s")
-
-
-def _read_bytes(path: Path) -> bytes:
-    try:
-        return path.read_bytes()
-    except FileNotFoundError:
-        raise UsageError("no such file", path=path) from None
-    except IsADirectoryError:
-        raise UsageError("is a directory, not an image", path=path) from None
-    except OSError as err:
-        raise UsageError(f"cannot read the file: {err.strerror}", path=path) from None
 
 
 def read_image(path: str | os.PathLike, *, grayscale: bool = False) -> np.ndarray:
@@ -71,7 +61,7 @@ def read_image(path: str | os.PathLike, *, grayscale: bool = False) -> np.ndarra
     if path.suffix.lower() == ".pfm":
         image = read_pfm(path)
     else:
-        data = _read_bytes(path)
+        data = read_bytes(path, "image")
         image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
         if image is None:
             raise DataError(f"cannot decode the image ({len(data)} bytes; not a PNG, PGM, "
@@ -165,7 +155,7 @@ def read_pfm(path: str | os.PathLike) -> np.ndarray:
         Bad header or too few bytes.
     """
     path = Path(path)
-    data = _read_bytes(path)
+    data = read_bytes(path, "image")
     match = _PFM_HEADER.match(data[:256])
     if match is None:
         raise DataError("not a PFM file (header 'PF|Pf width height scale' expected)", path=path)

@@ -29,6 +29,7 @@ from mvtools.errors import ConfigError, UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.atomic import atomic_output
 from mvtools.io.cameras import store_camera
+from mvtools.io.files import read_text
 
 __all__ = ["read_json_cameras", "write_json_cameras", "OMAF_TO_CAMERA",
            "rotation_from_euler", "euler_from_rotation"]
@@ -127,12 +128,7 @@ def read_json_cameras(path: str | os.PathLike) -> dict[str, Camera]:
         projection other than ``Perspective``.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise UsageError("camera file not found", path=path) from None
-    except (OSError, UnicodeDecodeError) as err:
-        raise UsageError(f"cannot read camera file: {err}", path=path) from None
+    text = read_text(path, "camera file")
     try:
         document = json.loads(text)
     except json.JSONDecodeError as err:
