@@ -208,6 +208,18 @@ class _ProgramParams:
     sources: "Mapping[str, ConfigEntry]" = dataclasses.field(
         default_factory=dict, compare=False, repr=False)
 
+    # The keys both programs start with.
+    depth_type: int = _param(
+        "DepthType", 0, "0: depth measured from the camera, 1: from the world origin",
+        choices=(0, 1))
+    source_width: int = _param("SourceWidth", 1280, "frame width in pixels", minimum=1)
+    source_height: int = _param("SourceHeight", 960, "frame height in pixels", minimum=1)
+    start_frame: int = _param(
+        "StartFrame", 0, "first frame read from the inputs; the output starts at its frame 0",
+        minimum=0)
+    total_number_of_frames: int = _param(
+        "TotalNumberOfFrames", 300, "number of frames to process", minimum=1)
+
     def __post_init__(self):
         for spec in param_specs(type(self)):
             # Frozen: normalise in place (int -> float, Path -> str) before checking the whole.
@@ -225,16 +237,6 @@ class VsrsParams(_ProgramParams):
     program: ClassVar[str] = "VSRS"
     camera_file_field: ClassVar[str] = "camera_parameter_file"
 
-    depth_type: int = _param(
-        "DepthType", 0, "0: depth measured from the camera, 1: from the world origin",
-        choices=(0, 1))
-    source_width: int = _param("SourceWidth", 1280, "frame width in pixels", minimum=1)
-    source_height: int = _param("SourceHeight", 960, "frame height in pixels", minimum=1)
-    start_frame: int = _param(
-        "StartFrame", 0, "first frame read from the inputs; the output starts at its frame 0",
-        minimum=0)
-    total_number_of_frames: int = _param(
-        "TotalNumberOfFrames", 300, "number of frames to process", minimum=1)
     left_nearest_depth_value: float = _param(
         "LeftNearestDepthValue", 0.0, "Znear of the left depth map (depth value 255)")
     left_farthest_depth_value: float = _param(
@@ -355,14 +357,6 @@ class DersParams(_ProgramParams):
     program: ClassVar[str] = "DERS"
     camera_file_field: ClassVar[str] = "file_camera_parameter"
 
-    depth_type: int = _param(
-        "DepthType", 0, "0: depth measured from the camera, 1: from the world origin",
-        choices=(0, 1))
-    source_width: int = _param("SourceWidth", 1280, "frame width in pixels", minimum=1)
-    source_height: int = _param("SourceHeight", 960, "frame height in pixels", minimum=1)
-    start_frame: int = _param("StartFrame", 0, "first frame read from the inputs", minimum=0)
-    total_number_of_frames: int = _param(
-        "TotalNumberOfFrames", 300, "number of frames to process", minimum=1)
     left_camera_name: str = _param(
         "LeftCameraName", "", "left neighbour's camera name (may be empty)")
     center_camera_name: str = _param(
