@@ -13,12 +13,15 @@ from mvtools.cli.inputs import open_input_video
 from mvtools.cli.options import data_dir_option, program, video_format_options
 from mvtools.errors import UsageError
 from mvtools.geometry.camera import Camera
-from mvtools.io.cameras import read_cameras
+from mvtools.io.cameras import read_cameras, read_htm_cameras
+from mvtools.io.config import read_htm_config
 from mvtools.io.json_cameras import read_json_cameras
 from mvtools.params import DersParams, VsrsParams, param_specs
 
-KINDS = ("video", "cameras", "json-cameras", "vsrs", "ders")
+KINDS = ("video", "cameras", "json-cameras", "htm-cameras", "vsrs", "ders", "htm-config")
 _KEY_LINE = re.compile(r"^\s*([A-Za-z]\w*)[ \t]")
+_HTM_KEY_LINE = re.compile(r"^\s*\w+\s*:")
+_NUMBERS_LINE = re.compile(r"^[\s0-9.eE+-]*$")
 
 
 @click.command(name="inspect")
@@ -50,13 +53,21 @@ def command(files, kind, size, pix_fmt, data_dirs):
         file_kind = kind or _detect(path)
         if file_kind == "video":
             click.echo(_describe_video(path, size, pix_fmt))
-        elif file_kind in ("cameras", "json-cameras"):
-            cameras = read_cameras(path) if file_kind == "cameras" else read_json_cameras(path)
+        elif file_kind in CAMERA_READERS:
+            cameras = CAMERA_READERS[file_kind](path)
             click.echo(f"{path}: {len(cameras)} cameras\n{_camera_table(cameras.values())}")
+        elif file_kind == "htm-config":
+            entries = read_htm_config(path)
+            click.echo(f"{path}: 3D-HTM encoder configuration, {len(entries)} keys")
+            click.echo("\n".join(f"  {entry.key:<30} {entry.value}" for entry in entries.values()))
         else:
             cls = VsrsParams if file_kind == "vsrs" else DersParams
             loaded = load_config(cls, path, overrides=overrides, data_dirs=data_dirs)
             click.echo(_describe_config(path, loaded))
+
+
+CAMERA_READERS = {"cameras": read_cameras, "json-cameras": read_json_cameras,
+                  "htm-cameras": read_htm_cameras}
 
 
 def _detect(path: Path) -> str:
@@ -69,7 +80,12 @@ def _detect(path: Path) -> str:
         text = path.read_text(errors="replace")
     except FileNotFoundError:
         raise UsageError("no such file", path=path) from None
-    keys = {match.group(1) for match in map(_KEY_LINE.match, text.splitlines()) if match}
+    lines = [line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+    if lines and all(_HTM_KEY_LINE.match(line) for line in lines):
+        return "htm-config"
+    if lines and all(_NUMBERS_LINE.match(line) for line in lines):
+        return "htm-cameras"
+    keys = {match.group(1) for match in map(_KEY_LINE.match, lines) if match}
     vsrs_keys = {spec.key for spec in param_specs(VsrsParams)}
     ders_keys = {spec.key for spec in param_specs(DersParams)}
     if keys & (ders_keys - vsrs_keys):

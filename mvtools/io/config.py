@@ -143,6 +143,32 @@ def read_config(path: str | os.PathLike) -> dict[str, ConfigEntry]:
     return entries
 
 
+def read_htm_config(path: str | os.PathLike) -> dict[str, ConfigEntry]:
+    """Read a 3D-HTM encoder configuration (``Key : Value ...  # comment`` lines).
+
+    The HTM reference encoder's syntax: the key, a colon, then a value that may hold
+    several words (GOP structure lines such as ``Frame1 : B 8 1 0.442 ...``); ``#``
+    starts a comment. mvtools reads these files to inspect them (frame size, number
+    of views, bit depths), the values stay text.
+
+    Raises
+    ------
+    ConfigError
+        A line with words but no ``:`` after its key.
+    """
+    name = os.fspath(path)
+    entries: dict[str, ConfigEntry] = {}
+    for number, text in enumerate(read_text(path, "HTM configuration file").split("\n"), start=1):
+        text = text.split("#", 1)[0].strip()
+        if not text:
+            continue
+        key, colon, value = text.partition(":")
+        if not colon or not key.strip():
+            raise ConfigError(f"expected 'Key : Value', got {text!r}", path=name, line=number)
+        _remember(entries, ConfigEntry(key.strip(), " ".join(value.split()), name, number))
+    return entries
+
+
 def _remember(entries: dict[str, ConfigEntry], entry: ConfigEntry) -> None:
     """Add ``entry``; warn when it replaces one from the same source."""
     previous = entries.get(entry.key)
