@@ -61,7 +61,8 @@ class LoadedConfig:
 
 def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Iterable[str] = (),
                 options: Mapping[str, Any] | None = None,
-                data_dirs: Iterable[str | os.PathLike] = ()) -> LoadedConfig:
+                data_dirs: Iterable[str | os.PathLike] = (),
+                transposed_rotation: bool = False) -> LoadedConfig:
     """Read parameters of ``cls`` and find their files and cameras.
 
     Raises
@@ -86,7 +87,7 @@ def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Itera
             loaded.outputs[spec.name] = resolve_output_path(param_entry(params, spec.name))
     camera_file = loaded.inputs.get(cls.camera_file_field)
     if camera_file is not None:
-        cameras = read_cameras(camera_file)
+        cameras = read_cameras(camera_file, transposed_rotation=transposed_rotation)
         for spec in param_specs(cls):
             name = getattr(params, spec.name)
             if spec.name.endswith("_camera_name") and name:

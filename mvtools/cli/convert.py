@@ -8,7 +8,8 @@ import click
 import numpy as np
 
 from mvtools.cli.inputs import frame_range, open_input_video
-from mvtools.cli.options import frame_range_options, program, video_format_options
+from mvtools.cli.options import (frame_range_options, program, transposed_rotation_option,
+                                  video_format_options)
 from mvtools.cli.progress import Progress
 from mvtools.color.levels import convert_planes, depth_preview, requantize
 from mvtools.color.space import rgb_to_yuv, yuv_to_rgb
@@ -44,9 +45,10 @@ VIDEO_EXTENSIONS = (".yuv", ".y4m")
 @click.option("--zfar", type=float, default=None, help="Depth of depth value 0.")
 @click.option("--focal", type=float, default=None, help="Focal length in pixels (disparity).")
 @click.option("--baseline", type=float, default=None, help="Baseline, in the units of z (disparity).")
+@transposed_rotation_option
 @program
 def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt, depth, preview,
-            to_quantity, from_quantity, znear, zfar, focal, baseline):
+            to_quantity, from_quantity, znear, zfar, focal, baseline, transposed_rotation):
     """Convert INPUTS into OUTPUT.
 
     \b
@@ -62,7 +64,7 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
     output = Path(output)
     first = Path(inputs[0])
     if ".json" in (output.suffix.lower(), first.suffix.lower()):
-        _convert_cameras(inputs, output, size, znear, zfar)
+        _convert_cameras(inputs, output, size, znear, zfar, transposed_rotation)
         return
     out_is_video = output.suffix.lower() in VIDEO_EXTENSIONS
     if not out_is_video and output.suffix.lower() not in IMAGE_EXTENSIONS:
@@ -89,7 +91,7 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
         _images_to_video(inputs, output, out_pix_fmt or "yuv420p")
 
 
-def _convert_cameras(inputs, output: Path, size, znear, zfar):
+def _convert_cameras(inputs, output: Path, size, znear, zfar, transposed_rotation):
     if len(inputs) != 1:
         raise UsageError("give one camera file at a time")
     source = Path(inputs[0])
@@ -98,10 +100,11 @@ def _convert_cameras(inputs, output: Path, size, znear, zfar):
         if output.suffix.lower() == ".json":
             write_json_cameras(output, cameras)
         else:
-            write_cameras(output, cameras)
+            write_cameras(output, cameras, transposed_rotation=transposed_rotation)
         return
     depth_range = _range(znear, zfar) if (znear, zfar) != (None, None) else None
-    write_json_cameras(output, read_cameras(source), size=size, depth_range=depth_range)
+    write_json_cameras(output, read_cameras(source, transposed_rotation=transposed_rotation),
+                       size=size, depth_range=depth_range)
 
 
 def _range(znear, zfar) -> tuple[float, float]:

@@ -10,7 +10,7 @@ import numpy as np
 
 from mvtools.cli.configs import LoadedConfig, load_config
 from mvtools.cli.inputs import open_input_video
-from mvtools.cli.options import data_dir_option, program, video_format_options
+from mvtools.cli.options import data_dir_option, program, transposed_rotation_option, video_format_options
 from mvtools.errors import UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import read_cameras, read_htm_cameras
@@ -30,8 +30,9 @@ _NUMBERS_LINE = re.compile(r"^[\s0-9.eE+-]*$")
               help="What the files are (default: from the extension and the content).")
 @video_format_options
 @data_dir_option
+@transposed_rotation_option
 @program
-def command(files, kind, size, pix_fmt, data_dirs):
+def command(files, kind, size, pix_fmt, data_dirs, transposed_rotation):
     """Describe FILEs and check that they can be used.
 
     \b
@@ -54,7 +55,8 @@ def command(files, kind, size, pix_fmt, data_dirs):
         if file_kind == "video":
             click.echo(_describe_video(path, size, pix_fmt))
         elif file_kind in CAMERA_READERS:
-            cameras = CAMERA_READERS[file_kind](path)
+            cameras = (read_cameras(path, transposed_rotation=transposed_rotation)
+                       if file_kind == "cameras" else CAMERA_READERS[file_kind](path))
             click.echo(f"{path}: {len(cameras)} cameras\n{_camera_table(cameras.values())}")
         elif file_kind == "htm-config":
             entries = read_htm_config(path)
@@ -62,7 +64,8 @@ def command(files, kind, size, pix_fmt, data_dirs):
             click.echo("\n".join(f"  {entry.key:<30} {entry.value}" for entry in entries.values()))
         else:
             cls = VsrsParams if file_kind == "vsrs" else DersParams
-            loaded = load_config(cls, path, overrides=overrides, data_dirs=data_dirs)
+            loaded = load_config(cls, path, overrides=overrides, data_dirs=data_dirs,
+                                 transposed_rotation=transposed_rotation)
             click.echo(_describe_config(path, loaded))
 
 

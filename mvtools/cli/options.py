@@ -102,3 +102,8 @@ def frame_range_options(function):
                             help="Number of frames to process (default: all).")(function)
     return click.option("--start-frame", type=click.IntRange(min=0), default=0, show_default=True,
                         help="First frame to process.")(function)
+
+
+transposed_rotation_option = click.option(
+    "--transposed-rotation", is_flag=True,
+    help="Camera parameter files store R transposed (camera to world), as VSRS 3.5 did.")
