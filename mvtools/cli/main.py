@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from mvtools import __version__
-from mvtools.cli import convert, evaluate, inspect
+from mvtools.cli import convert, evaluate, inspect, scene
 from mvtools.cli.planned import PLANNED, planned_command
 
 PROGRAMS: dict[str, click.Command] = {
@@ -13,6 +13,7 @@ PROGRAMS: dict[str, click.Command] = {
     "evaluate": evaluate.command,
     "convert": convert.command,
     "inspect": inspect.command,
+    "scene": scene.command,
 }
 
 
