@@ -40,14 +40,7 @@ def psnr(ref: np.ndarray, test: np.ndarray, *, max_value: float,
     float
         PSNR in dB, ``inf`` when the scored samples are identical.
     """
-    ref = np.asarray(ref)
-    test = np.asarray(test)
-    if ref.shape != test.shape:
-        raise ValueError(f"reference shape {ref.shape} differs from test shape {test.shape}")
-    if ref.ndim != 2:
-        raise ValueError(f"a plane must be 2-D, got shape {ref.shape}")
-    if not max_value > 0:
-        raise ValueError(f"max_value must be positive, got {max_value}")
+    ref, test = plane_pair(ref, test, max_value)
     if mask is not None:
         mask = np.asarray(mask, dtype=bool)
         if mask.shape != ref.shape:
@@ -59,6 +52,19 @@ def psnr(ref: np.ndarray, test: np.ndarray, *, max_value: float,
     if mse == 0.0:
         return float("inf")
     return float(10.0 * np.log10(float(max_value) ** 2 / mse))
+
+
+def plane_pair(ref, test, max_value: float) -> tuple[np.ndarray, np.ndarray]:
+    """``ref`` and ``test`` as arrays, checked to be planes of one shape with a positive peak."""
+    ref = np.asarray(ref)
+    test = np.asarray(test)
+    if ref.shape != test.shape:
+        raise ValueError(f"reference shape {ref.shape} differs from test shape {test.shape}")
+    if ref.ndim != 2:
+        raise ValueError(f"a plane must be 2-D, got shape {ref.shape}")
+    if not max_value > 0:
+        raise ValueError(f"max_value must be positive, got {max_value}")
+    return ref, test
 
 
 def _sum_squared_difference(ref: np.ndarray, test: np.ndarray, mask: np.ndarray | None) -> float:

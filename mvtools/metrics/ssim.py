@@ -10,6 +10,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from mvtools.metrics.psnr import plane_pair
+
 WINDOW_SIZE = 11
 WINDOW_SIGMA = 1.5
 K1 = 0.01
@@ -43,17 +45,10 @@ def ssim(ref: np.ndarray, test: np.ndarray, *, max_value: float) -> float:
     float
         Mean of the SSIM map; 1.0 for identical planes.
     """
-    ref = np.asarray(ref)
-    test = np.asarray(test)
-    if ref.shape != test.shape:
-        raise ValueError(f"reference shape {ref.shape} differs from test shape {test.shape}")
-    if ref.ndim != 2:
-        raise ValueError(f"a plane must be 2-D, got shape {ref.shape}")
+    ref, test = plane_pair(ref, test, max_value)
     if min(ref.shape) < WINDOW_SIZE:
         raise ValueError(f"SSIM needs planes of at least {WINDOW_SIZE}x{WINDOW_SIZE}, "
                          f"got {ref.shape[1]}x{ref.shape[0]}")
-    if not max_value > 0:
-        raise ValueError(f"max_value must be positive, got {max_value}")
     x = ref.astype(np.float64)
     y = test.astype(np.float64)
     kernel = cv2.getGaussianKernel(WINDOW_SIZE, WINDOW_SIGMA, cv2.CV_64F)
