@@ -10,12 +10,21 @@ from pathlib import Path
 
 import numpy as np
 
+from mvtools.color.space import rgb_to_yuv
 from mvtools.errors import UsageError
+from mvtools.geometry.camera import Camera
+from mvtools.geometry.depth import z_to_depth
+from mvtools.io.cameras import write_cameras
+from mvtools.io.config import write_config
+from mvtools.io.images import read_image
 from mvtools.io.middlebury import (MIDDLEBURY_SETS, check_same_size, read_ground_truth,
                                    read_nonoccluded_mask)
+from mvtools.io.yuv import YuvFormat, frame_from_luma, write_video
 from mvtools.metrics.disparity import nonoccluded_from_other_view
+from mvtools.params import VsrsParams
 
-__all__ = ["MiddleburyGroundTruth", "load_middlebury_ground_truth", "nonoccluded_pixels"]
+__all__ = ["MiddleburyGroundTruth", "load_middlebury_ground_truth", "nonoccluded_pixels",
+           "ConesCase", "cones_multiview", "write_cones_case", "fill_from_farther_neighbour"]
 
 
 @dataclass(frozen=True)
@@ -73,3 +82,191 @@ def load_middlebury_ground_truth(root: str | os.PathLike, name: str) -> Middlebu
         mask_path=root / entry.nonoccluded_mask if entry.nonoccluded_mask else None,
         other_view_path=root / entry.right_ground_truth if entry.right_ground_truth else None)
     return MiddleburyGroundTruth(disparity, known, nonoccluded)
+
+
+# --------------------------------------------------------------------------- Cones as MVD
+
+#: Focal length (pixels) and camera centres (x) of the Cones multiview-plus-depth case.
+CONES_FOCAL = 1000.0
+CONES_CENTRES = {"im2": 0.0, "im4": 2.0, "im6": 4.0}
+#: Ground-truth file value / scale = disparity in pixels between im2 and im6 (baseline 4).
+CONES_GT_SCALE = 4
+CONES_SIZE = (448, 368)
+
+
+@dataclass(frozen=True)
+class ConesCase:
+    """Middlebury Cones (2003) as multiview-plus-depth: im4 to synthesize from im2 and im6.
+
+    Three parallel cameras share ``K`` (f = 1000 px, principal point at the picture
+    centre), ``R = I`` and centres ``x = 0, 2, 4`` for im2, im4, im6, so the im2-im6
+    disparity ``d`` (ground truth / 4) gives ``z = f * 4 / d = 4000 / d``.
+
+    Attributes
+    ----------
+    cameras : dict of str to Camera
+        ``"im2"``, ``"im4"``, ``"im6"`` (``size`` set).
+    rgb : dict of str to ndarray of uint8, shape (H, W, 3)
+        The cropped pictures, im4 included (the truth to score against).
+    yuv : dict of str to tuple of ndarray
+        The same as 8-bit BT.601 limited-range YUV 4:2:0 planes ``(Y, U, V)``.
+    disparity : dict of str to ndarray of float64, shape (H, W)
+        Ground-truth disparity (pixels) of im2 and im6, unknown pixels filled
+        (:func:`fill_from_farther_neighbour`).
+    z : dict of str to ndarray of float64, shape (H, W)
+        Depth along the camera axis of im2 and im6, ``4000 / disparity``.
+    depth_range : tuple of float
+        ``(Znear, Zfar)`` for 8-bit depth maps, chosen so that depth value
+        ``v`` is ground-truth value ``v + min`` over the disparities of both
+        maps: every ground-truth step (1/4 px) is one depth-value step, so the
+        8-bit depth maps hold the ground truth without loss.
+    """
+
+    cameras: dict[str, Camera]
+    rgb: dict[str, np.ndarray]
+    yuv: dict[str, tuple[np.ndarray, ...]]
+    disparity: dict[str, np.ndarray]
+    z: dict[str, np.ndarray]
+    depth_range: tuple[float, float]
+
+    @property
+    def size(self) -> tuple[int, int]:
+        """(width, height)."""
+        height, width = self.rgb["im4"].shape[:2]
+        return width, height
+
+
+def fill_from_farther_neighbour(disparity: np.ndarray, known: np.ndarray) -> np.ndarray:
+    """Fill unknown disparities from the farther of their row neighbours.
+
+    Each unknown pixel takes the smaller disparity of the nearest known pixels to
+    its left and to its right in its row (the background side of an occlusion),
+    or the one that exists at a row end. A row without any known pixel takes the
+    smallest known disparity of the map.
+
+    Parameters
+    ----------
+    disparity : ndarray, shape (H, W)
+    known : ndarray of bool, shape (H, W)
+
+    Returns
+    -------
+    ndarray of float64, shape (H, W)
+    """
+    disparity = np.asarray(disparity, dtype=np.float64)
+    if not known.any():
+        raise ValueError("no known disparity to fill from")
+    height, width = disparity.shape
+    columns = np.broadcast_to(np.arange(width), (height, width))
+    # Index of the nearest known pixel at or before each column, -1 if none; and
+    # at or after, width if none.
+    left = np.maximum.accumulate(np.where(known, columns, -1), axis=1)
+    right = np.minimum.accumulate(np.where(known, columns, width)[:, ::-1], axis=1)[:, ::-1]
+    padded = np.pad(disparity, ((0, 0), (1, 1)), constant_values=np.inf)
+    rows = np.arange(height)[:, None]
+    from_left = padded[rows, left + 1]
+    from_right = padded[rows, right + 1]
+    filled = np.minimum(from_left, from_right)
+    filled = np.where(np.isinf(filled), disparity[known].min(), filled)
+    return np.where(known, disparity, filled)
+
+
+def cones_multiview(middlebury_root: str | os.PathLike, *,
+                    size: tuple[int, int] = CONES_SIZE) -> ConesCase:
+    """The Cones multiview-plus-depth case of the synthesis benchmarks.
+
+    Parameters
+    ----------
+    middlebury_root : path-like
+        The ``middlebury`` data folder (holding ``2003/cones``).
+    size : (width, height)
+        Crop taken from the top-left corner; the benchmark's is 448x368
+        (multiples of 8, so that the reference program runs on the same input).
+
+    Raises
+    ------
+    UsageError
+        Missing files, or a crop larger than the pictures.
+    """
+    folder = Path(middlebury_root) / "2003" / "cones"
+    width, height = size
+    rgb, disparity, z = {}, {}, {}
+    for name in CONES_CENTRES:
+        image = read_image(folder / f"{name}.png")
+        if image.ndim != 3 or width > image.shape[1] or height > image.shape[0]:
+            raise UsageError(f"expected an RGB picture of at least {width}x{height}",
+                             path=folder / f"{name}.png")
+        rgb[name] = np.ascontiguousarray(image[:height, :width])
+    ground_truth = {}
+    for name in ("im2", "im6"):
+        path = folder / f"disp{name[-1]}.png"
+        values, known = read_ground_truth(path, scale=1)
+        check_same_size(values, image[..., 0], path)
+        ground_truth[name] = fill_from_farther_neighbour(values[:height, :width],
+                                                         known[:height, :width])
+    smallest = min(values.min() for values in ground_truth.values())
+    focal_baseline = CONES_FOCAL * (CONES_CENTRES["im6"] - CONES_CENTRES["im2"])
+    for name, values in ground_truth.items():
+        disparity[name] = values / CONES_GT_SCALE
+        z[name] = focal_baseline / disparity[name]
+    # Depth value v <-> ground-truth value smallest + v, i.e. 1/z linear with a step
+    # of one ground-truth unit (disparities up to 255 units above the smallest).
+    zfar = focal_baseline * CONES_GT_SCALE / smallest
+    znear = focal_baseline * CONES_GT_SCALE / (smallest + 255)
+    K = [[CONES_FOCAL, 0.0, (width - 1) / 2], [0.0, CONES_FOCAL, (height - 1) / 2],
+         [0.0, 0.0, 1.0]]
+    cameras = {name: Camera(name, K, t=[x, 0.0, 0.0], size=(width, height))
+               for name, x in CONES_CENTRES.items()}
+    yuv = {name: rgb_to_yuv(image, chroma="420", bits=8) for name, image in rgb.items()}
+    return ConesCase(cameras, rgb, yuv, disparity, z, (float(znear), float(zfar)))
+
+
+def write_cones_case(case: ConesCase, folder: str | os.PathLike, **settings) -> Path:
+    """Write the case as the files of a VSRS run: im4 synthesized from im2 and im6.
+
+    Files, in ``folder``: ``im{2,4,6}_WxH_yuv420p.yuv`` (textures; im4 is the truth),
+    ``im{2,6}_depth_WxH_yuv420p.yuv`` (8-bit depth, chroma 128, quantised with
+    :func:`mvtools.geometry.depth.z_to_depth` and each view's Znear/Zfar),
+    ``cameras.txt`` and ``synthesize_im4.cfg``, whose output is
+    ``synthesized_im4_WxH_yuv420p.yuv`` relative to the folder the program runs in.
+
+    Parameters
+    ----------
+    case : ConesCase
+    folder : path-like
+        Existing folder.
+    **settings
+        :class:`mvtools.params.VsrsParams` fields overriding the defaults of the
+        case (e.g. ``synthesis_mode=1``, ``precision=4``, or
+        ``right_nearest_depth_value`` and ``right_farthest_depth_value`` to store the
+        right depth map with another range).
+
+    Returns
+    -------
+    Path
+        The configuration file.
+    """
+    folder = Path(folder)
+    width, height = case.size
+    texture_format = YuvFormat(width, height)
+    znear, zfar = case.depth_range
+    suffix = f"{width}x{height}_yuv420p.yuv"
+    params = VsrsParams(**{
+        "source_width": width, "source_height": height, "total_number_of_frames": 1,
+        "left_nearest_depth_value": znear, "left_farthest_depth_value": zfar,
+        "right_nearest_depth_value": znear, "right_farthest_depth_value": zfar,
+        "camera_parameter_file": "cameras.txt", "left_camera_name": "im2",
+        "virtual_camera_name": "im4", "right_camera_name": "im6",
+        "left_view_image_name": f"im2_{suffix}", "right_view_image_name": f"im6_{suffix}",
+        "left_depth_map_name": f"im2_depth_{suffix}", "right_depth_map_name": f"im6_depth_{suffix}",
+        "output_virtual_view_image_name": f"synthesized_im4_{suffix}", **settings})
+    write_cameras(folder / "cameras.txt", case.cameras)
+    for name, planes in case.yuv.items():
+        write_video(folder / f"{name}_{suffix}", texture_format, [planes])
+    for name, depth_range in (("im2", params.left_depth_range), ("im6", params.right_depth_range)):
+        depth = z_to_depth(case.z[name], *depth_range)
+        write_video(folder / f"{name}_depth_{suffix}", texture_format,
+                    [frame_from_luma(texture_format, depth)])
+    config = folder / "synthesize_im4.cfg"
+    write_config(config, params)
+    return config

@@ -44,7 +44,7 @@ def test_every_program_states_its_purpose():
 
 
 def test_planned_program_says_not_implemented():
-    code, _, err = run("synthesize", "some.cfg")
+    code, _, err = run("pack", "some.cfg")
     assert code == 2
     assert_one_line_error(err, "not implemented yet")
 

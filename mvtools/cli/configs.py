@@ -12,9 +12,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
-from mvtools.errors import ConfigError
+from mvtools.errors import ConfigError, DataError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import get_camera, read_cameras
+from mvtools.io.json_cameras import read_json_cameras
 from mvtools.io.config import (load_params, override_entries, param_entry, parse_overrides,
                                read_config, resolve_input_path, resolve_output_path)
 from mvtools.io.yuv import VideoReader, YuvFormat, format_from_name, open_video
@@ -34,12 +35,16 @@ class LoadedConfig:
         Field name -> output file, for every non-empty output-file parameter.
     cameras : dict of str to Camera
         Field name (``left_camera_name`` ...) -> camera, for every non-empty name.
+    all_cameras : dict of str to Camera
+        Every camera of the camera parameter file, by camera name (empty when no
+        camera file was read).
     """
 
     params: Any
     inputs: dict[str, Path] = field(default_factory=dict)
     outputs: dict[str, Path] = field(default_factory=dict)
     cameras: dict[str, Camera] = field(default_factory=dict)
+    all_cameras: dict[str, Camera] = field(default_factory=dict)
 
     @property
     def video_fields(self) -> list[str]:
@@ -47,16 +52,33 @@ class LoadedConfig:
         return [name for name in self.inputs if name != self.params.camera_file_field]
 
     def video_format(self, name: str) -> YuvFormat:
-        """Format of an input video: the configured size, 8-bit 4:2:0 unless its name says
-        otherwise (10/16-bit or 4:0:0 depth maps named the ffmpeg way)."""
+        """Format of an input video (:func:`video_format_for` with the configured size)."""
         size = (self.params.source_width, self.params.source_height)
-        named = format_from_name(self.inputs[name])
-        if named is not None and named.size == size:
-            return named
-        return YuvFormat(*size)
+        return video_format_for(self.inputs[name], size, key=param_entry(self.params, name).key)
 
     def open_video(self, name: str) -> VideoReader:
         return open_video(self.inputs[name], self.video_format(name))
+
+
+def video_format_for(path: Path, size: tuple[int, int], *, key: str | None = None) -> YuvFormat:
+    """Format of an input video of a configuration whose frames are ``size``.
+
+    8-bit 4:2:0 (what the reference programs read) unless the file's name says
+    otherwise the ffmpeg way (10/16-bit textures, 4:0:0 depth maps).
+
+    Raises
+    ------
+    DataError
+        The name gives another picture size than the configuration (``key``,
+        the configuration key that named the file, goes into the message).
+    """
+    named = format_from_name(path)
+    if named is None:
+        return YuvFormat(*size)
+    if named.size != size:
+        raise DataError(f"the file name says {named.width}x{named.height}, the configuration "
+                        f"{size[0]}x{size[1]} (SourceWidth, SourceHeight)", path=path, key=key)
+    return named
 
 
 def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Iterable[str] = (),
@@ -64,6 +86,9 @@ def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Itera
                 data_dirs: Iterable[str | os.PathLike] = (),
                 transposed_rotation: bool = False) -> LoadedConfig:
     """Read parameters of ``cls`` and find their files and cameras.
+
+    The camera parameter file is an MPEG text file, or MPEG-I JSON when its name
+    ends in ``.json``.
 
     Raises
     ------
@@ -87,7 +112,11 @@ def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Itera
             loaded.outputs[spec.name] = resolve_output_path(param_entry(params, spec.name))
     camera_file = loaded.inputs.get(cls.camera_file_field)
     if camera_file is not None:
-        cameras = read_cameras(camera_file, transposed_rotation=transposed_rotation)
+        if camera_file.suffix.lower() == ".json":
+            cameras = read_json_cameras(camera_file)
+        else:
+            cameras = read_cameras(camera_file, transposed_rotation=transposed_rotation)
+        loaded.all_cameras = cameras
         for spec in param_specs(cls):
             name = getattr(params, spec.name)
             if spec.name.endswith("_camera_name") and name:

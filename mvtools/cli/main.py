@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from mvtools import __version__
-from mvtools.cli import convert, evaluate, inspect, scene
+from mvtools.cli import convert, evaluate, inspect, scene, synthesize
 from mvtools.cli.planned import PLANNED, planned_command
 
 PROGRAMS: dict[str, click.Command] = {
@@ -14,6 +14,7 @@ PROGRAMS: dict[str, click.Command] = {
     "convert": convert.command,
     "inspect": inspect.command,
     "scene": scene.command,
+    "synthesize": synthesize.command,
 }
 
 

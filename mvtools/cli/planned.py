@@ -25,9 +25,6 @@ PLANNED = {
     "estimate-depth": (
         "Estimate depth maps from several views (local, semi-global, graph cuts, plane "
         "sweeping), reading DERS configuration files unmodified.", 4),
-    "synthesize": (
-        "Synthesize virtual views by depth-image-based rendering, reading VSRS configuration "
-        "files unmodified.", 3),
     "pack": (
         "Pack views into frame-compatible layouts and texture+depth atlases, unpack them, "
         "and run compression experiments with real encoders.", 7),
