@@ -267,8 +267,9 @@ class VsrsParams(_ProgramParams):
         "ColorSpace", 0, "internal colour space, 0: YUV, 1: RGB", choices=(0, 1))
     precision: int = _param(
         "Precision", 2,
-        "horizontal upsampling of the references, 1: integer, 2: half, 4: quarter pixel",
-        choices=(1, 2, 4))
+        "horizontal upsampling of the references, 1: integer, 2: half, 4: quarter pixel; "
+        "8, 16: eighth, sixteenth pixel (mvtools extensions)",
+        choices=(1, 2, 4, 8, 16))
     filter: int = _param(
         "Filter", 1, "upsampling filter, 0: bilinear, 1: bicubic, 2: AVC 6-tap",
         choices=(0, 1, 2))

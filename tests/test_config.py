@@ -249,7 +249,7 @@ def test_unknown_key_warns_with_nearest_key(tmp_path, caplog):
     ("SourceWidth 1024.0", "SourceWidth: '1024.0' is not an integer"),
     ("LeftNearestDepthValue 4O.5", "LeftNearestDepthValue: '4O.5' is not a number"),
     ("LeftNearestDepthValue nan", "LeftNearestDepthValue: 'nan' is not a number"),
-    ("Precision 3", "Precision: 3 is not one of 1, 2, 4"),
+    ("Precision 3", "Precision: 3 is not one of 1, 2, 4, 8, 16"),
     ("Filter 3", "Filter: 3 is not one of 0, 1, 2"),
     ("HoleCountThreshold 50", "HoleCountThreshold: 50 is outside [0, 49]"),
     ("SourceHeight 0", "SourceHeight: 0 must be >= 1"),
@@ -308,7 +308,7 @@ def test_consistency_between_keys(tmp_path):
 
 
 def test_direct_construction_validates():
-    with pytest.raises(ParamError, match=r"^Precision: 3 is not one of 1, 2, 4$"):
+    with pytest.raises(ParamError, match=r"^Precision: 3 is not one of 1, 2, 4, 8, 16$"):
         VsrsParams(precision=3)
     with pytest.raises(ValueError, match=r"^SourceWidth: 1.5 is not an integer$"):
         VsrsParams(source_width=1.5)
@@ -355,7 +355,7 @@ def test_param_specs_metadata():
     assert len(specs) == 34 and len(param_specs(DersParams)) == 47
     precision = specs["Precision"]
     assert (precision.name, precision.type, precision.default, precision.choices) == (
-        "precision", int, 2, (1, 2, 4))
+        "precision", int, 2, (1, 2, 4, 8, 16))
     near = specs["LeftNearestDepthValue"]
     assert (near.name, near.type, near.default) == ("left_nearest_depth_value", float, 0.0)
     assert {key for key, spec in specs.items() if spec.kind is Kind.INPUT_FILE} == {
@@ -439,8 +439,9 @@ def test_write_config_round_trip(tmp_path):
     by_key = {line.split()[0]: line for line in lines[1:]}
     assert len(by_key) == 34
     assert by_key["Precision"].split("#")[0].split() == ["Precision", "4"]
-    assert by_key["Precision"].endswith("# horizontal upsampling of the references, "
-                                        "1: integer, 2: half, 4: quarter pixel")
+    assert by_key["Precision"].endswith(
+        "# horizontal upsampling of the references, 1: integer, 2: half, 4: quarter pixel; "
+        "8, 16: eighth, sixteenth pixel (mvtools extensions)")
     assert by_key["LeftCameraName"].split("#")[0].split() == ["LeftCameraName"]
     assert '"C:\\My cams\\cam #1.txt"' in by_key["CameraParameterFile"]
     assert len({line.index("#") for line in lines[1:] if '"' not in line}) == 1  # aligned

@@ -14,9 +14,9 @@ from shared_data import shared_data
 from mvtools.geometry import Camera, depth_to_z, forward_warp, reproject
 from mvtools.synthesis.general import GeneralWarper, warp_general
 from mvtools.synthesis.sampling import sample_image, tap_table
-from mvtools.synthesis.views import FILTERS, ReferenceView
+from mvtools.synthesis.views import FILTERS, ReferenceView, SynthesisOptions
 
-PRECISIONS = (1, 2, 4)
+PRECISIONS = (1, 2, 4, 8, 16)      # 8 and 16: the mvtools extension of VSRS Precision
 
 
 def _camera(name, *, f=500.0, size=(80, 60), R=np.eye(3), t=(0.0, 0.0, 0.0)):
@@ -60,7 +60,7 @@ def test_sample_image_is_exact_at_integer_positions(filter, precision):
 
 
 @pytest.mark.parametrize("filter", FILTERS)
-@pytest.mark.parametrize("precision", [2, 4])
+@pytest.mark.parametrize("precision", [2, 4, 8, 16])
 def test_sample_image_reproduces_a_linear_ramp_at_every_phase(filter, precision):
     image = _ramp((30, 20))
     phases = np.arange(precision) / precision
@@ -74,10 +74,15 @@ def test_sample_image_reproduces_a_linear_ramp_at_every_phase(filter, precision)
 
 def test_sample_image_quantises_positions_to_the_precision():
     image = _ramp((20, 10))[..., :1]
-    x = np.array([[4.3, 4.13, 4.124, 4.6, 4.75]])
+    x = np.array([[4.3, 4.13, 4.124, 4.6, 4.75, 4.03125, 4.1875]])
     y = np.full_like(x, 2.0)
-    # Rounded half up to 1/precision: 4.3 -> 4 | 4.5 | 4.25; 4.13 -> 4 | 4 | 4.25 ...
-    expected = {1: [4, 4, 4, 5, 5], 2: [4.5, 4, 4, 4.5, 5], 4: [4.25, 4.25, 4, 4.5, 4.75]}
+    # Rounded half up to 1/precision: 4.3 -> 4 | 4.5 | 4.25 | 4.25 | 4.3125; the last two
+    # are ties at 1/16 (4 + 1/32 -> 4.0625) and at 1/8 (4 + 3/16 -> 4.25).
+    expected = {1: [4, 4, 4, 5, 5, 4, 4],
+                2: [4.5, 4, 4, 4.5, 5, 4, 4],
+                4: [4.25, 4.25, 4, 4.5, 4.75, 4, 4.25],
+                8: [4.25, 4.125, 4.125, 4.625, 4.75, 4, 4.25],
+                16: [4.3125, 4.125, 4.125, 4.625, 4.75, 4.0625, 4.1875]}
     for precision, columns in expected.items():
         got = sample_image(image, x, y, precision=precision, filter="bilinear")[0, :, 0]
         np.testing.assert_allclose(got, 3.0 * np.array(columns) + 2.0 * 2 + 1, rtol=1e-6)
@@ -96,12 +101,46 @@ def test_sample_image_avc6_taps_are_those_of_h264():
     np.testing.assert_allclose(quarter[1:7], [1, -5, 20, 20 + 32, -5, 1], atol=1e-5)
 
 
+@pytest.mark.parametrize("precision, phase, taps", [
+    # Finer than H.264: linear between the integer (tap 2), half-pel and next integer
+    # (tap 3) samples, in 32nds.
+    (8, 1 / 8, np.array([1, -5, 20, 20, -5, 1]) / 4 + [0, 0, 24, 0, 0, 0]),
+    (8, 3 / 8, np.array([3, -15, 60, 60, -15, 3]) / 4 + [0, 0, 8, 0, 0, 0]),
+    (8, 5 / 8, np.array([3, -15, 60, 60, -15, 3]) / 4 + [0, 0, 0, 8, 0, 0]),
+    (16, 1 / 16, np.array([1, -5, 20, 20, -5, 1]) / 8 + [0, 0, 28, 0, 0, 0]),
+    (16, 11 / 16, np.array([5, -25, 100, 100, -25, 5]) / 8 + [0, 0, 0, 12, 0, 0]),
+])
+def test_sample_image_avc6_finer_phases_interpolate_between_h264_samples(precision, phase,
+                                                                         taps):
+    impulse = np.zeros((1, 12), np.float32)
+    impulse[0, 5] = 32.0
+    # At i + phase the taps fall on pixels i - 2 .. i + 3: pixel 5 gets tap 7 - i.
+    x = np.arange(2, 8, dtype=np.float64)[None, ::-1] + phase
+    got = sample_image(impulse, x, np.zeros_like(x), precision=precision, filter="avc6")[0]
+    np.testing.assert_allclose(got, taps, atol=1e-5)
+
+
+@pytest.mark.parametrize("filter", FILTERS)
+def test_finer_precisions_keep_the_coarser_phases(filter):
+    for coarse, fine in ((1, 2), (2, 4), (4, 8), (8, 16)):
+        np.testing.assert_array_equal(tap_table(filter, fine)[0][::2],
+                                      tap_table(filter, coarse)[0])
+
+
 def test_sample_image_bicubic_is_catmull_rom():
     impulse = np.zeros((1, 9), np.float32)
     impulse[0, 4] = 16.0
     x = np.arange(2.5, 6.5)[None, :]  # pixel 4 is at distance 1.5, 0.5, 0.5, 1.5
     got = sample_image(impulse, x, np.zeros_like(x), precision=2, filter="bicubic")[0]
     np.testing.assert_allclose(got, [-1, 9, 9, -1], atol=1e-5)
+    # At 1/8: the Catmull-Rom weights (-t^3 + 2t^2 - t, 3t^3 - 5t^2 + 2, -3t^3 + 4t^2 + t,
+    # t^3 - t^2) / 2 at t = 1/8 are (-49, 987, 93, -7) / 1024, on pixels i - 1 .. i + 2.
+    impulse[0, 4] = 1024.0
+    x = np.arange(2.0, 6.0)[None, ::-1] + 1 / 8     # pixel 4 at offset -1, 0, 1, 2
+    for precision in (8, 16):
+        got = sample_image(impulse, x, np.zeros_like(x), precision=precision,
+                           filter="bicubic")[0]
+        np.testing.assert_allclose(got, [-49, 987, 93, -7], atol=1e-3)
 
 
 def test_sample_image_clamps_outside_and_propagates_nan():
@@ -116,13 +155,18 @@ def test_sample_image_clamps_outside_and_propagates_nan():
 def test_sample_image_rejects_bad_arguments():
     image = np.zeros((4, 4, 3), np.float32)
     grid = np.zeros((2, 2))
-    with pytest.raises(ValueError, match="precision"):
-        sample_image(image, grid, grid, precision=3, filter="bicubic")
+    for precision in (3, 32, 0):
+        with pytest.raises(ValueError, match="precision must be one of 1, 2, 4, 8, 16"):
+            sample_image(image, grid, grid, precision=precision, filter="bicubic")
+    with pytest.raises(ValueError, match="precision must be one of 1, 2, 4, 8, 16, got 32"):
+        SynthesisOptions(precision=32)
+    assert SynthesisOptions(precision=16).precision == 16
     with pytest.raises(ValueError, match="filter"):
         sample_image(image, grid, grid, precision=2, filter="lanczos")
     with pytest.raises(ValueError, match="same shape|one shape"):
         sample_image(image, grid, grid[:1], precision=2, filter="bilinear")
     assert tap_table("avc6", 4)[0].shape == (4, 6)
+    assert tap_table("bicubic", 16)[0].shape == (16, 4)
 
 
 # ---------------------------------------------------------------- general warp
@@ -143,17 +187,22 @@ def test_identity_warp_returns_the_reference(filter, precision):
 
 @pytest.mark.parametrize("size", [(80, 60), (333, 201), (101, 7)])
 @pytest.mark.parametrize("filter", FILTERS)
-def test_plane_moves_by_f_b_over_z(size, filter):
-    # f B / z = 500 * 0.74 / 100 = 3.7 px to the left in the camera to the right.
+@pytest.mark.parametrize("baseline, fetched", [
+    # f B / z = 500 * 0.74 / 100 = 3.7 px to the left in the camera to the right; each
+    # virtual pixel fetches the reference at u + 3.7, rounded to 1/precision: 1/20 px
+    # off at Precision 4, 3/10 px at Precision 1, 1/80 px at 16.
+    (0.74, {1: 4.0, 2: 3.5, 4: 3.75, 8: 3.75, 16: 3.6875}),
+    # 3.625 = 3 + 5/8 px: exact from Precision 8 on.
+    (0.725, {1: 4.0, 8: 3.625, 16: 3.625}),
+])
+def test_plane_moves_by_f_b_over_z(size, filter, baseline, fetched):
     width, height = size
     reference = _camera("ref", size=size)
-    virtual = _camera("virtual", size=size, t=(0.74, 0.0, 0.0))
+    virtual = _camera("virtual", size=size, t=(baseline, 0.0, 0.0))
     color = _ramp(size)
     view = _view(reference, color, np.full((height, width), 100.0))
     u = np.arange(width)
-    # Each virtual pixel fetches the reference at u + 3.7, rounded to 1/precision:
-    # 1/20 px off at Precision 4, 3/10 px at Precision 1.
-    for precision, shift in ((4, 3.75), (2, 3.5), (1, 4.0)):
+    for precision, shift in fetched.items():
         warped = warp_general(view, virtual, size=size, precision=precision, filter=filter)
         # Splats land at u - 3.7 rounded = u - 4: the last 4 columns see nothing.
         assert np.isinf(warped.z[:, width - 4:]).all()
@@ -374,7 +423,7 @@ def test_warp_rejects_bad_input():
         warper.warp(_view(camera, np.zeros((6, 8, 3)), -np.ones((6, 8))), precision=2,
                     filter="bicubic")
     with pytest.raises(ValueError, match="precision"):
-        warper.warp(good, precision=8, filter="bicubic")
+        warper.warp(good, precision=12, filter="bicubic")
     with pytest.raises(ValueError, match="depth_type"):
         GeneralWarper(camera, camera, size=size, depth_type=2)
     with pytest.raises(ValueError, match="size"):

@@ -83,6 +83,15 @@ def test_right_reference_shifts_the_other_way():
     (2.3, 2, "bilinear", {2: 0.5, 3: 0.5}),                   # rounded to v + 2.5
     (2.3, 1, "bilinear", {2: 1.0}),                           # rounded to v + 2
     (2.6, 2, "bicubic", {1: -1 / 16, 2: 9 / 16, 3: 9 / 16, 4: -1 / 16}),   # Catmull-Rom, half
+    # The finer precisions of mvtools (rows upsampled to 8 and 16 phases).
+    (2.125, 8, "bilinear", {2: 7 / 8, 3: 1 / 8}),             # v + 2 + 1/8 exactly
+    (2.2, 8, "bilinear", {2: 0.75, 3: 0.25}),                 # rounded to v + 2 + 2/8
+    (2.2, 16, "bilinear", {2: 13 / 16, 3: 3 / 16}),           # rounded to v + 2 + 3/16
+    (2.875, 16, "bilinear", {2: 1 / 8, 3: 7 / 8}),            # v + 2 + 14/16 exactly
+    (2.125, 8, "bicubic", {1: -49 / 1024, 2: 987 / 1024, 3: 93 / 1024, 4: -7 / 1024}),
+    # AVC 6-tap at 3/8: 1/4 of the integer sample plus 3/4 of the half-pel one.
+    (2.375, 8, "avc6", {0: 3 / 128, 1: -15 / 128, 2: 92 / 128, 3: 60 / 128, 4: -15 / 128,
+                        5: 3 / 128}),
 ])
 def test_sub_pixel_disparity_fetches_the_rounded_position(disparity, precision, filter, taps):
     color = texture(3, 32)
@@ -236,7 +245,8 @@ def test_warp_enhancement_leaves_wider_gaps_and_depth_edges(far):
         np.testing.assert_array_equal(enhanced.color, plain.color)
 
 
-def test_one_dimensional_mode_matches_the_general_mode_on_rectified_cameras():
+@pytest.mark.parametrize("precision", [2, 8, 16])
+def test_one_dimensional_mode_matches_the_general_mode_on_rectified_cameras(precision):
     cameras = read_cameras(SAMPLE_LINE / "cameras.txt")
     texture_planes = read_frame(SAMPLE_LINE / "v1_texture_256x192_yuv420p.yuv")
     values = read_frame(SAMPLE_LINE / "v1_depth_256x192_gray16le.yuv")[0]
@@ -244,9 +254,9 @@ def test_one_dimensional_mode_matches_the_general_mode_on_rectified_cameras():
                          np.stack(upsample_chroma(texture_planes), axis=-1).astype(np.float32),
                          depth_to_z(values, 2.0, 13.0, bits=16))
     general = GeneralWarper(cameras["cam1"], cameras["cam2"], size=(256, 192)).warp(
-        view, precision=2, filter="bicubic")
+        view, precision=precision, filter="bicubic")
     oned = warp_1d(view, cameras["cam2"], left_camera=cameras["cam1"], size=(256, 192),
-                   precision=2, filter="bicubic", splatting=1, clean_noise=False,
+                   precision=precision, filter="bicubic", splatting=1, clean_noise=False,
                    warp_enhancement=False)
     both = ~general.holes & ~oned.holes
     difference = np.abs(general.color - oned.color)[both]
@@ -407,8 +417,9 @@ def test_bad_options_and_inputs_are_refused():
     reference = ReferenceView(LEFT, color, z)
     with pytest.raises(ValueError, match="splatting"):
         warper.warp(reference, splatting=3)
-    with pytest.raises(ValueError, match="precision"):
-        warper.warp(reference, precision=3)
+    for precision in (3, 32):
+        with pytest.raises(ValueError, match="precision must be one of 1, 2, 4, 8, 16"):
+            warper.warp(reference, precision=precision)
     with pytest.raises(ValueError, match="filter"):
         warper.warp(reference, filter="lanczos")
     with pytest.raises(ValueError, match="positive"):

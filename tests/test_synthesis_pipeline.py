@@ -23,6 +23,7 @@ from mvtools.synthesis.boundary import boundary_noise, remove_boundary_noise, so
 from mvtools.synthesis.holes import fill_holes
 from mvtools.synthesis.pipeline import Synthesizer
 from mvtools.synthesis.views import ReferenceView, SynthesisOptions, WarpedView
+from mvtools.synthesis.working import to_working
 
 RANGE = (500.0, 5000.0)
 STEP = inverse_depth_step(RANGE)          # inverse depth of one 8-bit depth-value step
@@ -40,6 +41,24 @@ def flat(value: float, z: float, shape=(4, 6)) -> WarpedView:
 def z_in_front_of(z: float, steps: float) -> float:
     """The depth ``steps`` 8-bit depth-value steps of RANGE nearer than ``z``."""
     return 1.0 / (1.0 / z + steps * STEP)
+
+
+# ----------------------------------------------------------------------------- working space
+
+@pytest.mark.parametrize("rows", [300, 301])
+def test_working_space_upsamples_chroma_exactly_across_the_whole_frame(rows):
+    # A vertical chroma ramp 4 j: bilinear upsampling (centred siting, chroma row j at
+    # luma row 2 j + 0.5) gives 2 y - 1 inside, the edge rows replicated; also across
+    # the row strips the conversion works in.
+    chroma_rows = -(-rows // 2)
+    ramp = np.repeat(4 * np.arange(chroma_rows, dtype=np.uint16)[:, None], 3, axis=1)
+    luma = np.arange(rows * 6, dtype=np.uint16).reshape(rows, 6) % 1024
+    image = to_working((luma, ramp, 1023 - ramp), color_space=0, bits=10)
+    expected = np.clip(2.0 * np.arange(rows) - 1, 0, 4 * (chroma_rows - 1))
+    assert image.dtype == np.float32
+    np.testing.assert_array_equal(image[..., 0], luma)
+    np.testing.assert_array_equal(image[..., 1], np.repeat(expected[:, None], 6, axis=1))
+    np.testing.assert_array_equal(image[..., 2], 1023 - np.repeat(expected[:, None], 6, axis=1))
 
 
 # ----------------------------------------------------------------------------- weights
@@ -98,35 +117,43 @@ def test_disagreeing_depths_take_the_nearer_surface_whatever_the_weights():
     np.testing.assert_array_equal(merged.z, 1000.0)
 
 
-def test_holes_of_one_view_are_taken_from_the_other():
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_holes_of_one_view_are_taken_from_the_other(overwrite):
     left, right = flat(100, 1000), flat(200, 1000)
     left.z[1, 2] = np.inf
     right.z[3, 4] = np.inf
     left.z[0, 0] = right.z[0, 0] = np.inf
-    merged = merge_views([left, right], [0.5, 0.5], depth_range=RANGE)
+    merged = merge_views([left, right], [0.5, 0.5], depth_range=RANGE, overwrite=overwrite)
     assert merged.color[1, 2, 0] == 200.0 and merged.color[3, 4, 0] == 100.0
     assert merged.color[2, 2, 0] == 150.0
     assert merged.holes[0, 0] and merged.holes.sum() == 1
+    assert merged.color[0, 0, 0] == 0.0
+    assert (merged.z is left.z) == overwrite
 
 
-def test_view_blending_takes_the_nearer_camera_and_fills_its_holes_from_the_other():
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_view_blending_takes_the_nearer_camera_and_fills_its_holes_from_the_other(overwrite):
     # The right camera weighs more; the left view is even nearer in depth, but
     # ViewBlending 1 does not blend and does not compare depths.
     left, right = flat(100, 800), flat(200, 1000)
     right.z[2, 3] = np.inf
-    merged = merge_views([left, right], [0.25, 0.75], view_blending=True, depth_range=RANGE)
+    left.z[0, 5] = right.z[0, 5] = np.inf
+    merged = merge_views([left, right], [0.25, 0.75], view_blending=True, depth_range=RANGE,
+                         overwrite=overwrite)
     expected = np.full((4, 6), 200.0)
     expected[2, 3] = 100.0
+    expected[0, 5] = 0.0
     np.testing.assert_array_equal(merged.color[..., 0], expected)
-    assert merged.z[2, 3] == 800.0 and merged.z[0, 0] == 1000.0
+    assert merged.z[2, 3] == 800.0 and merged.z[0, 0] == 1000.0 and merged.z[0, 5] == np.inf
 
 
-def test_zero_weight_views_only_fill_what_the_weighted_ones_do_not_see():
+@pytest.mark.parametrize("overwrite", [False, True])
+def test_zero_weight_views_only_fill_what_the_weighted_ones_do_not_see(overwrite):
     # Weights (1, 0): the first reference is the virtual camera; the second view's
     # nearer surface cannot be visible there.
     first, second = flat(100, 1000), flat(200, 600)
     first.z[1, 1] = np.inf
-    merged = merge_views([first, second], [1.0, 0.0], depth_range=RANGE)
+    merged = merge_views([first, second], [1.0, 0.0], depth_range=RANGE, overwrite=overwrite)
     assert merged.color[0, 0, 0] == 100.0 and merged.color[1, 1, 0] == 200.0
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -178,7 +179,9 @@ class _FrameLoop:
     """Everything that lives across frames; :meth:`process` does one frame.
 
     A frame's arrays are locals of :meth:`process`, so they are freed before the next
-    frame is read: memory holds one frame, whatever the number of frames.
+    frame is read: memory holds one frame, whatever the number of frames. Within a
+    frame each reference view is read when the synthesizer takes it and freed once
+    warped (:class:`_FrameViews`).
     """
 
     synthesizer: Synthesizer
@@ -191,14 +194,15 @@ class _FrameLoop:
     writers: dict
     depth_output: _DepthOutput | None
 
+    def reference(self, view: int, index: int) -> ReferenceView:
+        """Frame ``index`` of reference ``view``, in the working space."""
+        color = to_working(self.textures[view].read(index), color_space=self.color_space,
+                           bits=self.texture_format.bits)
+        return ReferenceView(self.cameras[view], color,
+                             self.codings[view].z(self.depths[view].read(index)[0]))
+
     def process(self, index: int) -> None:
-        views = [ReferenceView(camera, to_working(texture.read(index), color_space=self.color_space,
-                                                  bits=self.texture_format.bits),
-                               coding.z(depth.read(index)[0]))
-                 for camera, texture, depth, coding in zip(self.cameras, self.textures,
-                                                           self.depths, self.codings)]
-        result = self.synthesizer.frame(views)
-        del views
+        result = self.synthesizer.frame(_FrameViews(self, index))
         self.writers["view"].write(from_working(result.color, color_space=self.color_space,
                                                 bits=self.texture_format.bits))
         if self.depth_output is not None:
@@ -210,6 +214,20 @@ class _FrameLoop:
             self.writers["depth"].write(frame_from_luma(self.depth_output.format, values))
         if "holes" in self.writers:
             self.writers["holes"].write(np.where(result.holes, np.uint8(255), np.uint8(0)))
+
+
+@dataclass(frozen=True)
+class _FrameViews(Sequence):
+    """The reference views of frame ``index``, read from the files on each access."""
+
+    loop: _FrameLoop
+    index: int
+
+    def __len__(self) -> int:
+        return len(self.loop.cameras)
+
+    def __getitem__(self, view: int) -> ReferenceView:
+        return self.loop.reference(view, self.index)
 
 
 # --------------------------------------------------------------------------- references

@@ -86,8 +86,8 @@ def inverse_depth_step(depth_range: tuple[float, float]) -> float:
 
 
 def merge_views(warped: Sequence[WarpedView], weights, *, view_blending: bool = False,
-                depth_blend_difference: float = 5.0,
-                depth_range: tuple[float, float]) -> WarpedView:
+                depth_blend_difference: float = 5.0, depth_range: tuple[float, float],
+                overwrite: bool = False) -> WarpedView:
     """Merge N views warped into the same virtual camera.
 
     Blending (``view_blending=False``, VSRS ``ViewBlending 0``): at each pixel the
@@ -118,6 +118,10 @@ def merge_views(warped: Sequence[WarpedView], weights, *, view_blending: bool = 
         Tolerance, >= 0, in depth-value units of the 8-bit map of ``depth_range``.
     depth_range : (znear, zfar)
         The common range the tolerance refers to.
+    overwrite : bool
+        The merged view may be written into the arrays of the views (C-contiguous
+        float32 colour, float64 depth), which are then undefined; saves the memory
+        of a merged view.
 
     Returns
     -------
@@ -137,36 +141,43 @@ def merge_views(warped: Sequence[WarpedView], weights, *, view_blending: bool = 
         if view.z.shape != shape or view.color.shape != shape + (3,):
             raise ValueError(f"warped views differ in size: depth {view.z.shape}, colour "
                              f"{view.color.shape}, first depth {shape}")
+    warped = [WarpedView(np.ascontiguousarray(view.color, dtype=np.float32),
+                         np.ascontiguousarray(view.z, dtype=np.float64)) for view in warped]
     if view_blending:
         priority = np.argsort(-weights, kind="stable")
-        return _merge_by_priority([warped[i] for i in priority])
+        return _merge_by_priority([warped[i] for i in priority], overwrite)
     tolerance = depth_blend_difference * inverse_depth_step(depth_range)
     weighted = weights > 0
     if weighted.all():
-        return _blend(warped, weights, tolerance)
+        return _blend(warped, weights, tolerance, overwrite)
     # What the weighted views show is the visible surface (a reference at the
     # virtual camera sees exactly that); the zero-weight views only fill the rest.
     primary = _blend([view for view, w in zip(warped, weighted) if w], weights[weighted],
-                     tolerance)
+                     tolerance, overwrite)
     others = [view for view, w in zip(warped, weighted) if not w]
-    return _merge_by_priority([primary, _blend(others, np.ones(len(others)), tolerance)])
+    return _merge_by_priority([primary, _blend(others, np.ones(len(others)), tolerance,
+                                               overwrite)], overwrite)
 
 
-def _blend(warped: Sequence[WarpedView], weights: np.ndarray, tolerance: float) -> WarpedView:
-    colors, depths = _stacks(warped)
-    color, z = _blend_kernel(colors, depths, weights, tolerance)
-    return WarpedView(color, z)
+def _blend(warped: list[WarpedView], weights: np.ndarray, tolerance: float,
+           overwrite: bool) -> WarpedView:
+    # Safe into the first view: the kernel reads each row of every view before writing it.
+    merged = warped[0] if overwrite else _empty_like(warped[0])
+    _blend_kernel(tuple(view.color for view in warped), tuple(view.z for view in warped),
+                  weights, tolerance, merged.color, merged.z)
+    return merged
 
 
-def _merge_by_priority(warped: Sequence[WarpedView]) -> WarpedView:
-    colors, depths = _stacks(warped)
-    color, z = _priority_kernel(colors, depths)
-    return WarpedView(color, z)
+def _merge_by_priority(warped: list[WarpedView], overwrite: bool) -> WarpedView:
+    # Safe into the first view (the first priority): the kernel starts from it.
+    merged = warped[0] if overwrite else _empty_like(warped[0])
+    _priority_kernel(tuple(view.color for view in warped), tuple(view.z for view in warped),
+                     merged.color, merged.z)
+    return merged
 
 
-def _stacks(warped: Sequence[WarpedView]) -> tuple[tuple, tuple]:
-    return (tuple(np.ascontiguousarray(view.color, dtype=np.float32) for view in warped),
-            tuple(np.ascontiguousarray(view.z, dtype=np.float64) for view in warped))
+def _empty_like(view: WarpedView) -> WarpedView:
+    return WarpedView(np.empty_like(view.color), np.empty_like(view.z))
 
 
 # Indexing the tuple of views with a variable is slow in numba: the kernels index it
@@ -174,11 +185,9 @@ def _stacks(warped: Sequence[WarpedView]) -> tuple[tuple, tuple]:
 # row view by view), not once per pixel.
 
 @numba.njit(cache=True, nogil=True, parallel=True)
-def _blend_kernel(colors, depths, weights, tolerance):
+def _blend_kernel(colors, depths, weights, tolerance, color, z):
     count = len(depths)
     height, width = depths[0].shape
-    color = np.empty((height, width, 3), dtype=np.float32)
-    z = np.empty((height, width))
     weights = weights.astype(np.float32)
     for y in numba.prange(height):
         row_depths = np.empty((count, width))
@@ -215,26 +224,27 @@ def _blend_kernel(colors, depths, weights, tolerance):
             color[y, x, 0] = c0
             color[y, x, 1] = c1
             color[y, x, 2] = c2
-    return color, z
 
 
 @numba.njit(cache=True, nogil=True, parallel=True)
-def _priority_kernel(colors, depths):
-    height, width = depths[0].shape
-    color = np.empty((height, width, 3), dtype=np.float32)
-    z = np.empty((height, width))
-    for y in numba.prange(height):
+def _priority_kernel(colors, depths, color, z):
+    width = z.shape[1]
+    for y in numba.prange(z.shape[0]):
         taken = z[y]
         out = color[y]
-        taken[:] = np.inf
-        out[:] = 0.0
-        # Lowest priority first: each view overwrites what it holds.
-        for i in range(len(depths) - 1, -1, -1):
+        # The first view's row (a no-op when writing into it), then each pixel it
+        # lacks from the first view after it that holds something.
+        taken[:] = depths[0][y]
+        out[:] = colors[0][y]
+        for i in range(1, len(depths)):
             depth = depths[i][y]
             source = colors[i][y]
             for x in range(width):
-                if depth[x] < np.inf:
+                if not taken[x] < np.inf and depth[x] < np.inf:
                     taken[x] = depth[x]
                     for c in range(3):
                         out[x, c] = source[x, c]
-    return color, z
+        for x in range(width):
+            if not taken[x] < np.inf:
+                for c in range(3):
+                    out[x, c] = 0.0

@@ -31,7 +31,7 @@ import numpy as np
 from mvtools.geometry.camera import Camera
 from mvtools.synthesis.blend import at_virtual_camera, merge_views, view_weights
 from mvtools.synthesis.boundary import remove_boundary_noise, soften_edges
-from mvtools.synthesis.general import GeneralWarper
+from mvtools.synthesis.general import GeneralWarper, ZBuffers
 from mvtools.synthesis.holes import fill_holes
 from mvtools.synthesis.oned import OneDWarper, TemporalDepthFilter, merge_1d
 from mvtools.synthesis.views import ReferenceView, SynthesisOptions, SynthesisResult, WarpedView
@@ -75,8 +75,10 @@ class Synthesizer:
         self.weights = view_weights(virtual_camera, used_cameras)
         self._reference_at_virtual = bool(at_virtual_camera(virtual_camera, used_cameras).any())
         if options.mode == "general":
+            # The views are warped one after the other: one set of z-buffers serves all.
+            z_buffers = ZBuffers()
             self._warpers = [GeneralWarper(camera, virtual_camera, size=self.size,
-                                           depth_type=options.depth_type)
+                                           depth_type=options.depth_type, z_buffers=z_buffers)
                              for camera in used_cameras]
             self._temporal = None
         else:
@@ -94,7 +96,9 @@ class Synthesizer:
         Parameters
         ----------
         references : sequence of ReferenceView
-            One per reference camera, in the constructor's order.
+            One per reference camera, in the constructor's order. Each view used is
+            taken once (``references[i]``) and let go once warped: a sequence that
+            reads the views on access holds one reference view in memory at a time.
 
         Returns
         -------
@@ -108,8 +112,10 @@ class Synthesizer:
         options = self.options
         if options.boundary_noise_removal:
             warped = remove_boundary_noise(warped, depth_range=self.depth_range)
+        # The warped views are this frame's own: merged into their arrays, and the
+        # merged arrays filled in place.
         merged = self._merge(warped)
-        # The merged arrays are this frame's own: fill them in place.
+        del warped
         color, z = fill_holes(np.ascontiguousarray(merged.color, dtype=np.float32),
                               np.ascontiguousarray(merged.z, dtype=np.float64), merged.holes,
                               method=options.hole_filling, overwrite=True)
@@ -139,10 +145,10 @@ class Synthesizer:
             return merge_1d(warped[0], warped[1], weights=tuple(self.weights),
                             merging=options.merging, depth_threshold=options.depth_threshold,
                             hole_count_threshold=options.hole_count_threshold,
-                            depth_range=self.depth_range)
+                            depth_range=self.depth_range, out=warped[0])
         return merge_views(warped, self.weights, view_blending=options.view_blending,
                            depth_blend_difference=options.depth_blend_difference,
-                           depth_range=self.depth_range)
+                           depth_range=self.depth_range, overwrite=True)
 
 
 def _distinct(cameras: list[Camera]) -> list[int]:

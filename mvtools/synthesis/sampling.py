@@ -9,6 +9,13 @@ taps for that phase. VSRS upsamples along rows only; here both directions are
 interpolated the same way, which changes nothing for rectified cameras (their
 positions fall on integer rows) and keeps rotated cameras sub-pixel accurate too.
 
+Precisions 8 and 16 (1/8 and 1/16 pixel) are an mvtools extension of the
+``Precision`` key (:data:`mvtools.synthesis.views.PRECISIONS`). Here the fetch costs
+the same at any precision; the finer rounding helps where depth is finer than 1/4
+pixel of disparity (Middlebury Cones, whose ground-truth disparities to the middle
+view are multiples of 1/8 pixel, bicubic, Y-PSNR: 30.80 dB at 1/4, 31.38 at 1/8,
+31.39 at 1/16 in general mode; 30.79, 31.32, 31.32 in 1D mode).
+
 Filters (one tap table per phase, weights summing to one):
 
 - ``"bilinear"``: linear interpolation between the two nearest pixels.
@@ -16,7 +23,11 @@ Filters (one tap table per phase, weights summing to one):
   reproduces polynomials up to degree two.
 - ``"avc6"``: H.264/AVC luma interpolation: 6-tap ``(1, -5, 20, 20, -5, 1) / 32`` at
   half-pixel positions, quarter positions the average of the nearest integer and
-  half-pixel samples. Applied separably.
+  half-pixel samples. Applied separably. H.264 stops at quarter pixels; the finer
+  precisions continue its rule: linear interpolation between the integer and
+  half-pixel samples on either side, i.e. between the quarter-pixel samples, so
+  every precision gives the H.264 samples where it has them (1/8 = 3/4 integer +
+  1/4 half-pel, 3/8 = 1/4 integer + 3/4 half-pel, ...).
 
 Positions outside the image are clamped to its border and the taps replicate the
 border pixels. Integer positions return the image samples exactly.
@@ -27,11 +38,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from mvtools.synthesis.views import FILTERS
+from mvtools.synthesis.views import FILTERS, PRECISIONS
 
-__all__ = ["sample_image", "tap_table"]
-
-PRECISIONS = (1, 2, 4)
+__all__ = ["sample_image", "tap_table", "PRECISIONS"]
 
 
 def _keys_cubic(distance: np.ndarray) -> np.ndarray:
@@ -49,7 +58,7 @@ def tap_table(filter: str, precision: int) -> tuple[np.ndarray, int]:
     Parameters
     ----------
     filter : {"bilinear", "bicubic", "avc6"}
-    precision : {1, 2, 4}
+    precision : {1, 2, 4, 8, 16}
 
     Returns
     -------
@@ -62,7 +71,8 @@ def tap_table(filter: str, precision: int) -> tuple[np.ndarray, int]:
     if filter not in FILTERS:
         raise ValueError(f"filter must be one of {', '.join(FILTERS)}, got {filter!r}")
     if precision not in PRECISIONS:
-        raise ValueError(f"precision must be 1, 2 or 4, got {precision!r}")
+        raise ValueError(f"precision must be one of {', '.join(map(str, PRECISIONS))}, "
+                         f"got {precision!r}")
     phase = np.arange(precision, dtype=np.float64)[:, None] / precision
     if filter == "bilinear":
         first, weights = 0, np.hstack([1 - phase, phase])
@@ -74,8 +84,11 @@ def tap_table(filter: str, precision: int) -> tuple[np.ndarray, int]:
         integer = np.array([0, 0, 32, 0, 0, 0], dtype=np.float64) / 32
         half = np.array([1, -5, 20, 20, -5, 1], dtype=np.float64) / 32
         following = np.array([0, 0, 0, 32, 0, 0], dtype=np.float64) / 32
-        by_quarter = {0: integer, 1: (integer + half) / 2, 2: half, 3: (half + following) / 2}
-        weights = np.array([by_quarter[k * 4 // precision] for k in range(precision)])
+        # Linear between integer, half-pel and next integer sample: H.264's quarter
+        # positions (the averages) and, finer, the lines between them.
+        halves = 2 * phase      # 0 .. 2 in half pixels
+        weights = np.where(halves <= 1, (1 - halves) * integer + halves * half,
+                           (2 - halves) * half + (halves - 1) * following)
     return weights.astype(np.float32), first
 
 
@@ -159,8 +172,9 @@ def sample_image(image, x, y, *, precision: int, filter: str) -> np.ndarray:
         Reference samples (converted to float32).
     x, y : array_like, shape (H, W)
         Column and row of every wanted sample in ``image`` (integer = pixel centre).
-    precision : {1, 2, 4}
-        Positions are rounded (half up) to this fraction of a pixel, VSRS ``Precision``.
+    precision : {1, 2, 4, 8, 16}
+        Positions are rounded (half up) to this fraction of a pixel, VSRS ``Precision``
+        (8 and 16 are mvtools extensions).
     filter : {"bilinear", "bicubic", "avc6"}
         Interpolation filter, VSRS ``Filter`` 0, 1, 2.
 

@@ -9,6 +9,8 @@ import numpy as np
 from mvtools.geometry.camera import Camera
 
 FILTERS = ("bilinear", "bicubic", "avc6")          # VSRS Filter 0, 1, 2
+# VSRS Precision: integer, half, quarter pixel; 8 and 16 are mvtools extensions.
+PRECISIONS = (1, 2, 4, 8, 16)
 HOLE_FILLING = ("background", "inpaint", "background-diffusion")  # IvsrsInpaint 1, 0, new
 
 
@@ -58,7 +60,8 @@ class SynthesisOptions:
     """Algorithm options, built by the program from :class:`mvtools.params.VsrsParams`.
 
     Attributes mirror the VSRS keys: ``mode`` (SynthesisMode 0 "general", 1 "1d"),
-    ``precision`` (1, 2, 4), ``filter`` (one of :data:`FILTERS`), ``depth_type`` (0, 1),
+    ``precision`` (one of :data:`PRECISIONS`: VSRS's 1, 2, 4 and the finer 8 and 16 of
+    mvtools), ``filter`` (one of :data:`FILTERS`), ``depth_type`` (0, 1),
     ``view_blending`` (ViewBlending 1 = True), ``depth_blend_difference`` (in 8-bit
     depth-value units of the common inverse-depth range, see
     :func:`mvtools.synthesis.blend.merge_views`), ``hole_filling`` (IvsrsInpaint),
@@ -88,8 +91,9 @@ class SynthesisOptions:
     def __post_init__(self):
         if self.mode not in ("general", "1d"):
             raise ValueError(f"mode must be 'general' or '1d', got {self.mode!r}")
-        if self.precision not in (1, 2, 4):
-            raise ValueError(f"precision must be 1, 2 or 4, got {self.precision}")
+        if self.precision not in PRECISIONS:
+            raise ValueError(f"precision must be one of {', '.join(map(str, PRECISIONS))}, "
+                             f"got {self.precision!r}")
         if self.filter not in FILTERS:
             raise ValueError(f"filter must be one of {', '.join(FILTERS)}, got {self.filter!r}")
         if self.depth_type not in (0, 1):
