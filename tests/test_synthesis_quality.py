@@ -10,7 +10,6 @@ slightly below the bars so that CI is not flaky; a broken warp is far below them
 
 from __future__ import annotations
 
-import contextlib
 import shutil
 import subprocess
 import sys
@@ -18,15 +17,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
-from mvtools.cli.main import cli
 from mvtools.datasets import cones_multiview, fill_from_farther_neighbour, write_cones_case
 from mvtools.geometry.depth import depth_to_z
 from mvtools.io.images import read_image
 from mvtools.io.yuv import YuvFormat, open_video, read_frame
 from mvtools.metrics import psnr
 from shared_data import shared_data
+from synthesize_runner import run_synthesize
 
 SAMPLE_LINE = Path(__file__).resolve().parent.parent / "sample_data" / "line"
 
@@ -40,11 +38,8 @@ KENDO_MIN_PSNR = 39.0
 
 def run(*args, cwd: Path):
     """``mvtools synthesize`` in-process in ``cwd``: (exit code, stderr)."""
-    with contextlib.chdir(cwd):
-        result = CliRunner().invoke(cli, ["synthesize", *map(str, args)])
-    if result.exception is not None and not isinstance(result.exception, SystemExit):
-        raise result.exception
-    return result.exit_code, result.stderr
+    code, _, err = run_synthesize(*args, cwd=cwd)
+    return code, err
 
 
 def luma(path: Path, fmt: YuvFormat, index: int = 0) -> np.ndarray:

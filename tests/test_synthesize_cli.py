@@ -9,7 +9,6 @@ and no output file.
 
 from __future__ import annotations
 
-import contextlib
 import shutil
 import subprocess
 import sys
@@ -17,10 +16,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
 from mvtools.cli import synthesize as synthesize_module
-from mvtools.cli.main import cli
 from mvtools.synthesis.working import DepthCoding
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import depth_to_z, z_to_depth
@@ -29,6 +26,7 @@ from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import YuvFormat, frame_from_luma, open_video, write_video
 from mvtools.metrics import psnr
 from shared_data import shared_data
+from synthesize_runner import run_synthesize
 
 SAMPLE = Path(__file__).resolve().parent.parent / "sample_data"
 LINE, ARC = SAMPLE / "line", SAMPLE / "arc"
@@ -42,13 +40,7 @@ LINE_MIN_PSNR = 39.0
 ARC_MIN_PSNR = 35.0
 
 
-def run(*args, cwd: Path):
-    """Run ``mvtools synthesize`` in-process in ``cwd``: (exit code, stdout, stderr)."""
-    with contextlib.chdir(cwd):
-        result = CliRunner().invoke(cli, ["synthesize", *map(str, args)])
-    if result.exception is not None and not isinstance(result.exception, SystemExit):
-        raise result.exception
-    return result.exit_code, result.stdout, result.stderr
+run = run_synthesize
 
 
 def assert_one_line_error(stderr: str, *fragments: str) -> None:
