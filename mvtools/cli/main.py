@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 
 from mvtools import __version__
-from mvtools.cli import convert, evaluate, inspect, scene, synthesize
+from mvtools.cli import convert, estimate_depth, evaluate, inspect, scene, synthesize
 from mvtools.cli.planned import PLANNED, planned_command
 
 PROGRAMS: dict[str, click.Command] = {
@@ -15,6 +15,7 @@ PROGRAMS: dict[str, click.Command] = {
     "inspect": inspect.command,
     "scene": scene.command,
     "synthesize": synthesize.command,
+    "estimate-depth": estimate_depth.command,
 }
 
 

@@ -22,9 +22,6 @@ PLANNED = {
     "colorcorrect": (
         "Make the colours of the views agree: per-channel look-up tables to a reference view, "
         "to the average of the views or to a colour chart.", 6),
-    "estimate-depth": (
-        "Estimate depth maps from several views (local, semi-global, graph cuts, plane "
-        "sweeping), reading DERS configuration files unmodified.", 4),
     "pack": (
         "Pack views into frame-compatible layouts and texture+depth atlases, unpack them, "
         "and run compression experiments with real encoders.", 7),
