@@ -8,6 +8,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 from mvtools.color.space import rgb_to_yuv
@@ -20,11 +21,13 @@ from mvtools.io.images import read_image
 from mvtools.io.middlebury import (MIDDLEBURY_SETS, check_same_size, read_ground_truth,
                                    read_nonoccluded_mask)
 from mvtools.io.yuv import YuvFormat, frame_from_luma, write_video
-from mvtools.metrics.disparity import nonoccluded_from_other_view
+from mvtools.depth.refine import fill_from_background
+from mvtools.metrics.disparity import nonoccluded_from_other_view, score_disparity
 from mvtools.params import VsrsParams
 
 __all__ = ["MiddleburyGroundTruth", "load_middlebury_ground_truth", "nonoccluded_pixels",
-           "ConesCase", "cones_multiview", "write_cones_case", "fill_from_farther_neighbour"]
+           "ConesCase", "cones_multiview", "write_cones_case", "fill_from_farther_neighbour",
+           "middlebury_pair", "score_middlebury", "opencv_sgbm_reference"]
 
 
 @dataclass(frozen=True)
@@ -270,3 +273,47 @@ def write_cones_case(case: ConesCase, folder: str | os.PathLike, **settings) -> 
     config = folder / "synthesize_im4.cfg"
     write_config(config, params)
     return config
+
+
+def middlebury_pair(root: str | os.PathLike, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """The left and right views of a published set as ``(H, W, 3)`` uint8 RGB."""
+    entry = MIDDLEBURY_SETS[name]
+    return read_image(Path(root) / entry.left), read_image(Path(root) / entry.right)
+
+
+#: Region each set is judged on by the issues' protocol: all known pixels for the 2001
+#: sets, non-occluded ones for the others.
+SCORED_REGION = {"tsukuba": "all", "venus": "all"}
+
+
+def score_middlebury(disparity: np.ndarray, truth: MiddleburyGroundTruth, name: str, *,
+                     threshold: float = 1.0) -> float:
+    """Bad-``threshold`` percentage of a left-view disparity map over the set's scored
+    region (:data:`SCORED_REGION`, non-occluded pixels by default)."""
+    score = score_disparity(disparity, truth.disparity, known=truth.known,
+                            nonoccluded=truth.nonoccluded)
+    region = SCORED_REGION.get(name, "nonocc")
+    return (score.bad_all if region == "all" else score.bad_nonocc)[threshold]
+
+
+def opencv_sgbm_reference(left: np.ndarray, right: np.ndarray, *, disparities: int) -> np.ndarray:
+    """OpenCV StereoSGBM as the issues' baseline runs it: HH mode, block 5,
+    P1 = 8*3*5^2, P2 = 32*3*5^2, minDisparity 0, other options at OpenCV's defaults,
+    disparity = output / 16, invalid pixels filled from the background along their row.
+
+    Parameters
+    ----------
+    left, right : ndarray, shape (H, W, 3) uint8 RGB
+    disparities : int
+        Number of disparities searched, rounded up to a multiple of 16 as OpenCV needs.
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W)
+    """
+    matcher = cv2.StereoSGBM_create(minDisparity=0, numDisparities=-(-disparities // 16) * 16,
+                                    blockSize=5, P1=8 * 3 * 25, P2=32 * 3 * 25,
+                                    mode=cv2.STEREO_SGBM_MODE_HH)
+    raw = matcher.compute(left[:, :, ::-1], right[:, :, ::-1])
+    filled = fill_from_background(raw.astype(np.float32) / 16, raw >= 0)
+    return np.nan_to_num(filled, nan=0.0)

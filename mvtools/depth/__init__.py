@@ -1,92 +1,41 @@
-"""Disparity estimation of rectified stereo pairs.
+"""Disparity estimation.
+
+A *method* turns a matching-cost volume into a volume whose per-pixel minimum is the
+chosen level: semi-global matching's path sums, a local matcher's window sums, belief
+propagation's beliefs, or for graph cuts each label's energy given the neighbours' final
+labels. The same volume read along its diagonals gives the right view's levels, so every
+method gets a left-right check from one optimisation, and the DERS mode can run any
+method on its plane-sweep volume.
 
 Arrays in, arrays out: the ``estimate-depth`` program reads the views and writes the maps.
 """
 
 from __future__ import annotations
 
+from typing import Callable
+
 import numpy as np
 
 from mvtools.depth.cost import ad_census_cost
-from mvtools.depth.refine import (fill_from_background, left_right_consistent, median_smooth,
-                                  near_depth_edges, refine_subpixel, weighted_median)
-from mvtools.depth.sgm import aggregate_paths, winner_takes_all
+from mvtools.depth.refine import clean_up, refine_subpixel
+from mvtools.depth.sgm import sgm_volume, winner_takes_all
 
-__all__ = ["estimate_disparity", "sgm_disparity", "METHODS"]
+__all__ = ["estimate_disparity", "METHODS"]
 
-
-def sgm_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: int,
-                  min_disparity: int = 0, p1: float = 1.0, p2: float = 10.0,
-                  edge_scale: float = 3.0, lambda_census: float = 30.0,
-                  lambda_colour: float = 20.0, outside_cost: float = 0.7,
-                  median_radius: int = 5, median_sigma: float = 20.0,
-                  median_size: int = 3) -> np.ndarray:
-    """Semi-global matching of a rectified pair.
-
-    AD-census costs, 8-path aggregation with P2 lowered across edges of the left view,
-    sub-pixel winner-takes-all in both views from the same aggregated volume,
-    sub-pixel refinement of the left view by a windowed squared-difference fit,
-    left-right check, invalid pixels filled from the background, then a colour-weighted
-    median on doubtful pixels and a plain median.
-
-    Parameters
-    ----------
-    left, right : ndarray, shape (H, W, 3) or (H, W)
-    max_disparity, min_disparity : int
-        Searched disparities, inclusive.
-    p1, p2 : float
-        SGM penalties in cost units (the AD-census cost is in [0, 2]).
-    edge_scale : float
-        Grey-level step that halves P2.
-    lambda_census, lambda_colour, outside_cost : float
-        See :func:`mvtools.depth.cost.ad_census_cost`.
-    median_radius : int
-    median_sigma : float
-        Window half size and colour scale of the weighted median applied to the
-        filled pixels and around depth edges, where the matcher errs.
-    median_size : int
-        Final plain median, 3 or 5.
-
-    Returns
-    -------
-    ndarray of float32, shape (H, W)
-
-    Notes
-    -----
-    Defaults chosen on the four 2001/2003 Middlebury pairs together, the same for all
-    (bad 1.0: Tsukuba 4.41, Venus 1.82, Teddy 6.67, Cones 2.83 %; OpenCV StereoSGBM:
-    5.5, 2.9, 15.2, 7.2 %). A weighted-median radius of 6 gives 4.24, 1.64, 6.78,
-    2.84 % but costs about 15 % more time.
-    """
-    levels = max_disparity - min_disparity + 1
-    cost = ad_census_cost(left, right, min_disparity=min_disparity, levels=levels,
-                          lambda_census=lambda_census, lambda_colour=lambda_colour,
-                          outside_cost=outside_cost)
-    grey_left, grey_right = (_grey(view) for view in (left, right))
-    total = aggregate_paths(cost, grey_left, p1=p1, p2=p2, edge_scale=edge_scale)
-    disparity_left = refine_subpixel(winner_takes_all(total) + min_disparity,
-                                     grey_left, grey_right)
-    disparity_right = winner_takes_all(total, right_view=True,
-                                       min_disparity=min_disparity) + min_disparity
-    valid = left_right_consistent(disparity_left, disparity_right)
-    filled = fill_from_background(disparity_left, valid)
-    doubtful = ~valid | near_depth_edges(filled)
-    snapped = weighted_median(filled, left, radius=median_radius, sigma_colour=median_sigma,
-                              where=doubtful)
-    return median_smooth(snapped, size=median_size)
-
-
-def _grey(view: np.ndarray) -> np.ndarray:
-    view = np.asarray(view, np.float32)
-    return view.mean(axis=2) if view.ndim == 3 else view
-
-
-METHODS = {"sgm": sgm_disparity}
+#: name -> ``method(cost, guide) -> volume``: ``cost`` of shape (H, W, D) float32, ``guide``
+#: the view the costs belong to, (H, W, 3) float32 RGB; the returned (H, W, D) float32
+#: volume is minimal at each pixel's chosen level.
+METHODS: dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]] = {"sgm": sgm_volume}
 
 
 def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: int,
                        min_disparity: int = 0, method: str = "sgm") -> np.ndarray:
     """Disparity of the left view of a rectified pair.
+
+    AD-census costs, the method's optimisation, sub-pixel winner-takes-all in both views
+    from the same volume, sub-pixel refinement of the left view by a windowed
+    squared-difference fit, then :func:`mvtools.depth.refine.clean_up` (left-right check,
+    background fill, colour-weighted median).
 
     Parameters
     ----------
@@ -104,6 +53,12 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     ndarray of float32, shape (H, W)
         Sub-pixel disparity with ``x_right = x_left - d``; NaN where no value could be
         filled in.
+
+    Notes
+    -----
+    With ``sgm`` (bad 1.0, Middlebury protocol): Tsukuba 4.41, Venus 1.82 (all known
+    pixels), Teddy 6.67, Cones 2.83 % (non-occluded); OpenCV StereoSGBM: 5.5, 2.9, 15.2,
+    7.2 %.
     """
     if method not in METHODS:
         raise ValueError(f"{method!r} method is invalid, it must be one of {sorted(METHODS)}")
@@ -119,5 +74,17 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     if max_disparity - min_disparity >= left.shape[1]:
         raise ValueError(f"disparity range {min_disparity}..{max_disparity} is not narrower "
                          f"than the image width {left.shape[1]}")
-    return METHODS[method](left, right, max_disparity=max_disparity,
-                           min_disparity=min_disparity)
+    levels = max_disparity - min_disparity + 1
+    cost = ad_census_cost(left, right, min_disparity=min_disparity, levels=levels)
+    volume = METHODS[method](cost, _rgb(left))
+    grey_left, grey_right = (_rgb(view).mean(axis=2) for view in (left, right))
+    disparity_left = refine_subpixel(winner_takes_all(volume) + min_disparity,
+                                     grey_left, grey_right)
+    disparity_right = winner_takes_all(volume, right_view=True,
+                                       min_disparity=min_disparity) + min_disparity
+    return clean_up(disparity_left, disparity_right, left)
+
+
+def _rgb(view: np.ndarray) -> np.ndarray:
+    view = np.asarray(view, np.float32)
+    return np.repeat(view[:, :, None], 3, axis=2) if view.ndim == 2 else view

@@ -82,7 +82,7 @@ def _ad_census_volume(census_left, census_right, colour_left, colour_right, min_
 
 def ad_census_cost(left: np.ndarray, right: np.ndarray, *, min_disparity: int, levels: int,
                    census_window: tuple[int, int] = (7, 9), lambda_census: float = 30.0,
-                   lambda_colour: float = 10.0, outside_cost: float = 2.0) -> np.ndarray:
+                   lambda_colour: float = 20.0, outside_cost: float = 0.7) -> np.ndarray:
     """AD-census matching cost volume of the left view (Mei et al. 2011).
 
     ``cost = 2 - exp(-hamming / lambda_census) - exp(-colour / lambda_colour)``: each term

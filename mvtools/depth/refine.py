@@ -7,8 +7,45 @@ import cv2
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["left_right_consistent", "fill_from_background", "median_smooth", "refine_subpixel",
+__all__ = ["clean_up", "left_right_consistent", "fill_from_background", "median_smooth", "refine_subpixel",
            "weighted_median", "near_depth_edges"]
+
+
+def clean_up(disparity_left: np.ndarray, disparity_right: np.ndarray, left: np.ndarray, *,
+             median_radius: int = 5, median_sigma: float = 20.0,
+             median_size: int = 3) -> np.ndarray:
+    """Left-right check, background fill of the rejected pixels, then a colour-weighted
+    median on them and around depth edges, where matchers err, and a plain median.
+
+    Parameters
+    ----------
+    disparity_left, disparity_right : ndarray, shape (H, W)
+        Each view's disparities (``x_right = x_left - d``).
+    left : ndarray, shape (H, W, 3) or (H, W)
+        The left view, integer values.
+    median_radius : int
+    median_sigma : float
+        Window half size and colour scale of the weighted median.
+    median_size : int
+        Final plain median, 3 or 5.
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W)
+        NaN only on rows without any consistent pixel.
+
+    Notes
+    -----
+    Chosen on the four 2001/2003 Middlebury pairs together: a weighted-median radius of
+    6 instead of 5 gives bad 1.0 of 4.24, 1.64, 6.78, 2.84 % instead of 4.41, 1.82, 6.67,
+    2.83 % (Tsukuba, Venus, Teddy, Cones) for about 15 % more time.
+    """
+    valid = left_right_consistent(disparity_left, disparity_right)
+    filled = fill_from_background(disparity_left, valid)
+    doubtful = ~valid | near_depth_edges(filled)
+    snapped = weighted_median(filled, left, radius=median_radius, sigma_colour=median_sigma,
+                              where=doubtful)
+    return median_smooth(snapped, size=median_size)
 
 
 def left_right_consistent(left: np.ndarray, right: np.ndarray, *,

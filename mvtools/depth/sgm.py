@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["PATHS_8", "aggregate_paths", "winner_takes_all"]
+__all__ = ["PATHS_8", "aggregate_paths", "sgm_volume", "winner_takes_all"]
 
 # (dy, dx) steps of the 8 paths: each pixel's cost is smoothed along the line it came from.
 PATHS_8 = ((0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (1, -1), (-1, 1), (-1, -1))
@@ -110,6 +110,30 @@ def aggregate_paths(cost: np.ndarray, guide: np.ndarray, *, p1: float, p2: float
         else:
             _aggregate_sweep(cost, guide, dy, dx, *args)
     return total
+
+
+def sgm_volume(cost: np.ndarray, guide: np.ndarray, *, p1: float = 1.0, p2: float = 10.0,
+               edge_scale: float = 3.0) -> np.ndarray:
+    """The ``sgm`` method: 8-path aggregation with P2 lowered across the guide's edges.
+
+    Parameters
+    ----------
+    cost : ndarray of float32, shape (H, W, D)
+        Matching costs, in [0, 2] for AD-census.
+    guide : ndarray, shape (H, W, 3) or (H, W)
+        The view the costs belong to.
+    p1, p2 : float
+        SGM penalties in cost units.
+    edge_scale : float
+        Grey-level step that halves P2.
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W, D)
+    """
+    guide = np.asarray(guide, np.float32)
+    grey = guide.mean(axis=2) if guide.ndim == 3 else guide
+    return aggregate_paths(cost, grey, p1=p1, p2=p2, edge_scale=edge_scale)
 
 
 @njit(cache=True, nogil=True, inline="always")
