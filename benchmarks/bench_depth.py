@@ -1,5 +1,7 @@
 """estimate-depth against OpenCV StereoSGBM on the published Middlebury pairs: bad 1.0
-over each set's scored region and seconds per pair, side by side.
+over each set's scored region and seconds per pair, side by side; then end to end:
+Cones im4 synthesized (mvtools synthesize, 448x368, general and 1D mode, Precision 2)
+from the depth of im2 and im6 estimated from that pair, Y-PSNR against the real im4.
 
 Environment: MVTOOLS_BENCH_METHODS=sgm,graphcut (default: every method),
 MVTOOLS_BENCH_SETS=tsukuba,cones (default: the seven 2001/2003/2005 sets).
@@ -8,14 +10,23 @@ MVTOOLS_BENCH_SETS=tsukuba,cones (default: the seven 2001/2003/2005 sets).
 from __future__ import annotations
 
 import os
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 from common import DATA, report
 
-from mvtools.datasets import (load_middlebury_ground_truth, middlebury_pair,
-                              opencv_sgbm_reference, score_middlebury)
+from mvtools.datasets import (cones_multiview, estimate_cones_disparities,
+                              load_middlebury_ground_truth, middlebury_pair,
+                              opencv_sgbm_reference, score_middlebury, write_cones_case)
 from mvtools.depth import METHODS, estimate_disparity
 from mvtools.io.middlebury import MIDDLEBURY_SETS
+from mvtools.io.yuv import YuvFormat, read_frame
+from mvtools.metrics import psnr
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from synthesize_runner import run_synthesize  # noqa: E402
 
 SETS = ("tsukuba", "venus", "teddy", "cones", "Art", "Dolls", "Moebius")
 
@@ -49,7 +60,36 @@ def main() -> None:
                          "OpenCV StereoSGBM", sgbm_bad))
             rows.append((f"{name} {method} seconds", seconds, "OpenCV StereoSGBM",
                          sgbm_seconds))
+    end_to_end(methods, rows)
     report(rows)
+
+
+def cones_im4_psnr(disparities: dict, mode: int) -> float:
+    """Y-PSNR of Cones im4 synthesized with mvtools from im2 and im6 with the given
+    disparities (:func:`mvtools.datasets.cones_multiview`)."""
+    case = cones_multiview(DATA / "middlebury", disparities=disparities)
+    with tempfile.TemporaryDirectory() as folder:
+        config = write_cones_case(case, folder, synthesis_mode=mode)
+        code, _, err = run_synthesize(config, cwd=Path(folder))
+        if code:
+            raise RuntimeError(err)
+        width, height = case.size
+        result = read_frame(Path(folder) / f"synthesized_im4_{width}x{height}_yuv420p.yuv",
+                            YuvFormat(width, height))[0]
+    return psnr(case.yuv["im4"][0], result, max_value=255)
+
+
+def end_to_end(methods: list[str], rows: list) -> None:
+    root = DATA / "middlebury"
+    baseline = estimate_cones_disparities(
+        root, lambda left, right, count: opencv_sgbm_reference(left, right, disparities=count))
+    for method in methods:
+        ours = estimate_cones_disparities(root, lambda left, right, count: estimate_disparity(
+            left, right, max_disparity=count - 1, method=method))
+        for mode, label in ((0, "general"), (1, "1D")):
+            rows.append((f"Cones im4, {method} depth, {label} (dB; bar 30.5)",
+                         cones_im4_psnr(ours, mode), "SGBM depth, same synthesis",
+                         cones_im4_psnr(baseline, mode)))
 
 
 if __name__ == "__main__":

@@ -27,7 +27,8 @@ from mvtools.params import VsrsParams
 
 __all__ = ["MiddleburyGroundTruth", "load_middlebury_ground_truth", "nonoccluded_pixels",
            "ConesCase", "cones_multiview", "write_cones_case", "fill_from_farther_neighbour",
-           "middlebury_pair", "score_middlebury", "opencv_sgbm_reference"]
+           "middlebury_pair", "score_middlebury", "opencv_sgbm_reference",
+           "estimate_cones_disparities"]
 
 
 @dataclass(frozen=True)
@@ -95,6 +96,8 @@ CONES_CENTRES = {"im2": 0.0, "im4": 2.0, "im6": 4.0}
 #: Ground-truth file value / scale = disparity in pixels between im2 and im6 (baseline 4).
 CONES_GT_SCALE = 4
 CONES_SIZE = (448, 368)
+#: Disparities searched between im2 and im6 by the Middlebury protocol.
+CONES_DISPARITIES = 64
 
 
 @dataclass(frozen=True)
@@ -175,7 +178,8 @@ def fill_from_farther_neighbour(disparity: np.ndarray, known: np.ndarray) -> np.
 
 
 def cones_multiview(middlebury_root: str | os.PathLike, *,
-                    size: tuple[int, int] = CONES_SIZE) -> ConesCase:
+                    size: tuple[int, int] = CONES_SIZE,
+                    disparities: dict[str, np.ndarray] | None = None) -> ConesCase:
     """The Cones multiview-plus-depth case of the synthesis benchmarks.
 
     Parameters
@@ -185,6 +189,10 @@ def cones_multiview(middlebury_root: str | os.PathLike, *,
     size : (width, height)
         Crop taken from the top-left corner; the benchmark's is 448x368
         (multiples of 8, so that the reference program runs on the same input).
+    disparities : dict, optional
+        ``{"im2": ..., "im6": ...}``: estimated im2-im6 disparities in pixels of the
+        whole pictures, shape (375, 450), finite and positive, used instead of the
+        ground truth (the end-to-end case of depth estimation).
 
     Raises
     ------
@@ -202,11 +210,19 @@ def cones_multiview(middlebury_root: str | os.PathLike, *,
         rgb[name] = np.ascontiguousarray(image[:height, :width])
     ground_truth = {}
     for name in ("im2", "im6"):
-        path = folder / f"disp{name[-1]}.png"
-        values, known = read_ground_truth(path, scale=1)
-        check_same_size(values, image[..., 0], path)
-        ground_truth[name] = fill_from_farther_neighbour(values[:height, :width],
-                                                         known[:height, :width])
+        if disparities is None:
+            path = folder / f"disp{name[-1]}.png"
+            values, known = read_ground_truth(path, scale=1)
+            check_same_size(values, image[..., 0], path)
+            ground_truth[name] = fill_from_farther_neighbour(values[:height, :width],
+                                                             known[:height, :width])
+        else:
+            estimate = np.asarray(disparities[name], np.float64)
+            check_same_size(estimate, image[..., 0], f"{name} disparity")
+            if not (np.isfinite(estimate).all() and estimate.min() > 0):
+                raise ValueError(f"the {name} disparities must be finite and positive")
+            # in ground-truth units, so that the depth maps quantise them the same way
+            ground_truth[name] = estimate[:height, :width] * CONES_GT_SCALE
     smallest = min(values.min() for values in ground_truth.values())
     focal_baseline = CONES_FOCAL * (CONES_CENTRES["im6"] - CONES_CENTRES["im2"])
     for name, values in ground_truth.items():
@@ -222,6 +238,35 @@ def cones_multiview(middlebury_root: str | os.PathLike, *,
                for name, x in CONES_CENTRES.items()}
     yuv = {name: rgb_to_yuv(image, chroma="420", bits=8) for name, image in rgb.items()}
     return ConesCase(cameras, rgb, yuv, disparity, z, (float(znear), float(zfar)))
+
+
+def estimate_cones_disparities(middlebury_root: str | os.PathLike, estimate) -> dict[str, np.ndarray]:
+    """Disparities of Cones im2 and im6 estimated from that pair alone, ready for
+    :func:`cones_multiview` (the end-to-end case of depth estimation).
+
+    Parameters
+    ----------
+    middlebury_root : path-like
+    estimate : callable
+        ``estimate(left, right, disparities)`` -> left view's disparity map, NaN where
+        unknown; the right view's map is the left one of the mirrored, swapped pair.
+
+    Returns
+    -------
+    dict
+        ``{"im2": ..., "im6": ...}`` of float64 (375, 450); unknown values take the
+        smallest disparity searched that is positive (a quarter pixel), as far as the
+        depth maps reach.
+    """
+    folder = Path(middlebury_root) / "2003" / "cones"
+    im2, im6 = (read_image(folder / f"{name}.png") for name in ("im2", "im6"))
+    disparities = {"im2": estimate(im2, im6, CONES_DISPARITIES),
+                   "im6": estimate(np.ascontiguousarray(im6[:, ::-1]),
+                                   np.ascontiguousarray(im2[:, ::-1]),
+                                   CONES_DISPARITIES)[:, ::-1]}
+    smallest = 1 / CONES_GT_SCALE
+    return {name: np.clip(np.nan_to_num(np.asarray(values, np.float64), nan=smallest),
+                          smallest, None) for name, values in disparities.items()}
 
 
 def write_cones_case(case: ConesCase, folder: str | os.PathLike, **settings) -> Path:
