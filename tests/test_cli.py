@@ -4,8 +4,6 @@ giving one line naming the place at fault, the right exit code and no output."""
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -13,23 +11,10 @@ import pytest
 
 from mvtools.io.images import read_image, write_image
 from mvtools.io.yuv import YuvFormat, read_frame, write_video
+from program_runner import assert_one_line_error, run
 from shared_data import shared_data
 
 KENDO_ZNEAR, KENDO_ZFAR = 448.251214, 11206.280350
-
-
-def run(*args, cwd=None):
-    completed = subprocess.run([sys.executable, "-m", "mvtools", *map(str, args)],
-                               capture_output=True, text=True, cwd=cwd)
-    return completed.returncode, completed.stdout, completed.stderr
-
-
-def assert_one_line_error(stderr: str, *fragments: str) -> None:
-    lines = [line for line in stderr.splitlines() if "error:" in line]
-    assert len(lines) == 1, stderr
-    assert "Traceback" not in stderr
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
 
 
 def leftovers(folder: Path) -> list[str]:

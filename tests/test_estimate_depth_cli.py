@@ -5,16 +5,15 @@ their encoding is exact, and bad input gives one line, the right exit code, no o
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
 from mvtools.cli.estimate_depth import command, disparity_png_values
 from mvtools.io.images import read_image, write_image
+from program_runner import assert_one_line_error, run
+from program_runner import invoke as invoke_program
 from shared_data import shared_data
 
 #: Bad 1.0 over all known pixels of Tsukuba. Measured with sgm: 5.5 % (PFM), 4.7 % (PNG,
@@ -22,25 +21,8 @@ from shared_data import shared_data
 TSUKUBA_BAD1_LIMIT = 8.0
 
 
-def run(*args):
-    completed = subprocess.run([sys.executable, "-m", "mvtools", *map(str, args)],
-                               capture_output=True, text=True)
-    return completed.returncode, completed.stdout, completed.stderr
-
-
 def invoke(*args):
-    result = CliRunner().invoke(command, [str(arg) for arg in args])
-    if result.exception is not None and not isinstance(result.exception, SystemExit):
-        raise result.exception
-    return result.exit_code, result.stdout, result.stderr
-
-
-def assert_one_line_error(stderr: str, *fragments: str) -> None:
-    lines = [line for line in stderr.splitlines() if "error:" in line]
-    assert len(lines) == 1, stderr
-    assert "Traceback" not in stderr
-    for fragment in fragments:
-        assert fragment in lines[0], lines[0]
+    return invoke_program(command, *args)
 
 
 def shifted_pair(disparity: int, shape=(40, 96), seed=0) -> tuple[np.ndarray, np.ndarray]:
@@ -197,10 +179,14 @@ def test_missing_required_option(tmp_path, pair):
     assert_one_line_error(err, "--disparities is required")
 
 
-def test_ders_configuration_mode_is_not_implemented_yet(tmp_path):
+def test_stereo_pair_options_do_not_go_with_a_ders_configuration(tmp_path, pair):
+    # The DERS mode itself is tested in test_estimate_depth_ders.py.
     config = tmp_path / "ders.cfg"
     config.write_text("DepthType 0\n")
-    code, _, err = run("estimate-depth", config, "Precision=2")
+    left, right = pair
+    code, _, err = run("estimate-depth", config, "--left", left, "--right", right,
+                       "-o", tmp_path / "out.pfm")
     assert code == 2
-    assert_one_line_error(err, "DERS configuration mode is not implemented yet (issue #4)")
-    assert sorted(path.name for path in tmp_path.iterdir()) == ["ders.cfg"]
+    assert_one_line_error(err, "--left, --right: stereo-pair options cannot go with a DERS "
+                               "configuration")
+    assert not (tmp_path / "out.pfm").exists()

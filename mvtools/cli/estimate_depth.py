@@ -1,14 +1,26 @@
-"""``mvtools estimate-depth``: disparity maps from a rectified stereo pair.
+"""``mvtools estimate-depth``: depth maps from DERS configurations, disparity maps from
+a rectified stereo pair.
+
+DERS mode (``estimate-depth CONFIG [Key=Value ...]``): the configuration is read
+unmodified (:func:`mvtools.cli.configs.load_config`), ``Key=Value`` items and one option
+per DERS key override it; the center view's depth is estimated from its left and/or
+right neighbours by plane sweeping (:class:`mvtools.depth.ders.DersEstimator`), frames
+streamed one at a time, and written as an MPEG depth map (8-bit 4:2:0 with chroma 128,
+or 16-bit 4:0:0 with ``--depth-bits 16`` or a ``_gray16le`` name). The Znear/Zfar that the
+values mean are printed and saved next to the output as ``OUTPUT.json``. Every output is
+written atomically.
 
 Stereo-pair mode: the left view's disparity is written as PFM (float, ``inf`` where
 no disparity was found, as Middlebury stores unknown values) and, on request, as a
 16-bit PNG holding ``round(disparity * scale)`` with 0 for unknown, the convention
 of Middlebury's ground-truth files, so that ``mvtools evaluate --disparity`` scores
-either file. The DERS configuration mode of issue #4 is not implemented yet.
+either file.
 """
 
 from __future__ import annotations
 
+import contextlib
+import json
 import logging
 import time
 from pathlib import Path
@@ -16,10 +28,20 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.options import overrides_argument, program
+from mvtools.cli.configs import LoadedConfig, load_config
+from mvtools.cli.inputs import frame_range
+from mvtools.cli.options import (data_dir_option, overrides_argument, param_options, program,
+                                  transposed_rotation_option)
+from mvtools.cli.progress import Progress
 from mvtools.depth import METHODS, estimate_disparity
-from mvtools.errors import DataError, UsageError
+from mvtools.depth.ders import DersEstimator, Neighbour
+from mvtools.errors import ConfigError, DataError, UsageError
+from mvtools.io.atomic import atomic_output
+from mvtools.io.config import param_entry
 from mvtools.io.images import read_image, write_image
+from mvtools.io.yuv import YuvFormat, format_from_name, frame_from_luma, open_writer
+from mvtools.params import DersParams
+from mvtools.synthesis.working import DepthCoding, to_working
 
 LOG = logging.getLogger(__name__)
 
@@ -29,61 +51,104 @@ DEFAULT_PNG_SCALE = 4.0
 _PNG_MAX = np.iinfo(np.uint16).max
 
 
+#: Command-line names of DERS keys beyond ``--`` + the key in snake case.
+_SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
+
+
 @click.command(name="estimate-depth")
 @click.argument("config", required=False, type=click.Path(dir_okay=False))
 @overrides_argument
+@data_dir_option
 @click.option("--left", type=click.Path(dir_okay=False), default=None,
-              help="Left picture of a rectified pair (PNG, PPM, JPEG...): the view whose "
-                   "disparity is estimated.")
+              help="Stereo-pair mode: left picture of a rectified pair (PNG, PPM, JPEG...), "
+                   "the view whose disparity is estimated.")
 @click.option("--right", type=click.Path(dir_okay=False), default=None,
-              help="Right picture of the pair, same size as --left.")
+              help="Stereo-pair mode: right picture of the pair, same size as --left.")
 @click.option("--disparities", "max_disparity", type=int, default=None, metavar="N",
-              help="Largest disparity searched, in pixels (left x - right x; inclusive).")
-@click.option("--min-disparity", type=int, default=0, show_default=True,
-              help="Smallest disparity searched, in pixels (inclusive).")
+              help="Stereo-pair mode: largest disparity searched, in pixels (left x - right x; "
+                   "inclusive).")
+@click.option("--min-disparity", type=int, default=None,
+              help="Stereo-pair mode: smallest disparity searched, in pixels (inclusive; "
+                   "default 0).")
 @click.option("--method", default="sgm", show_default=True,
-              help=f"Matching method: {', '.join(METHODS)}.")
+              help=f"Matching method (both modes): {', '.join(METHODS)}.")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), default=None,
-              help="Disparity map of the left view, PFM (float pixels, inf = unknown).")
+              help="DERS mode: the depth map video (FileOutputDepthMapImage). Stereo-pair "
+                   "mode: disparity map of the left view, PFM (float pixels, inf = unknown).")
 @click.option("--png", type=click.Path(dir_okay=False), default=None,
-              help="Also write the disparity map as a 16-bit PNG holding disparity * "
-                   "--png-scale, rounded, 0 = unknown.")
-@click.option("--png-scale", type=float, default=DEFAULT_PNG_SCALE, show_default=True,
-              help="PNG value / scale = disparity in pixels (give the same number to "
-                   "evaluate --disparity-scale).")
+              help="Stereo-pair mode: also write the disparity map as a 16-bit PNG holding "
+                   "disparity * --png-scale, rounded, 0 = unknown.")
+@click.option("--png-scale", type=float, default=None,
+              help=f"Stereo-pair mode: PNG value / scale = disparity in pixels (give the same "
+                   f"number to evaluate --disparity-scale; default {DEFAULT_PNG_SCALE:g}).")
+@click.option("--depth-bits", type=click.Choice(["8", "16"]), default=None,
+              help="DERS mode: 8-bit 4:2:0 depth with chroma 128 (default), or 16-bit 4:0:0 "
+                   "(gray16le); an output name such as depth_1024x768_gray16le.yuv says the "
+                   "same.")
+@transposed_rotation_option
+@param_options(DersParams, _SECONDARY_NAMES)
 @program
-def command(config, overrides, left, right, max_disparity, min_disparity, method, output,
-            png, png_scale):
-    """Estimate the disparity map of the left view of a rectified stereo pair.
+def command(config, overrides, data_dirs, left, right, max_disparity, min_disparity, method,
+            output, png, png_scale, depth_bits, transposed_rotation, **options):
+    """Estimate depth from a DERS configuration, or disparity from a stereo pair.
 
     \b
+    mvtools estimate-depth ders.cfg [Key=Value ...] [--data-dir DIR] [-o depth.yuv]
     mvtools estimate-depth --left im2.png --right im6.png --disparities 64 \\
         -o disparity.pfm --png disparity.png --png-scale 4
 
-    The pictures are rectified (corresponding points on the same row, the right
-    view's point to the left: disparity = left x - right x >= 0 for the usual
-    --min-disparity 0). The PFM keeps the float disparities with inf where the
-    method found none (occlusions, failed consistency checks); the PNG, for
-    Middlebury-style evaluation, holds disparity * --png-scale with 0 for those
-    (a true disparity that rounds to 0 is then read as unknown too).
+    DERS mode: CONFIG is a DERS configuration file, read unmodified; Key=Value items
+    override it as on the DERS command line, and the options below (one per DERS key)
+    override both. The depth of the center view (CenterCameraName) is estimated from
+    its left and/or right neighbours (MatchDirection) with the camera parameter file
+    (MPEG text, or MPEG-I JSON when its name ends in .json) by plane sweeping: depth
+    planes uniform in 1/z from the disparity search range (pixels to the BaselineBasis
+    view, SearchLevel steps per pixel) or from NearestSearchDepthValue,
+    FarthestSearchDepthValue and NumberOfDepthSteps; any camera layout. The output holds
+    MinimumValueOfDisparityRange..MaximumValueOfDisparityRange as 0..255, or
+    FarthestDepthValue..NearestDepthValue when those are given; the Znear/Zfar this
+    means are printed and written to OUTPUT.json. Frames: StartFrame,
+    TotalNumberOfFrames; progress on stderr.
 
-    CONFIG (a DERS configuration file, with Key=Value overrides) is the other mode
-    of issue #4 and is not implemented yet.
+    Stereo-pair mode: the pictures are rectified (corresponding points on the same row,
+    the right view's point to the left: disparity = left x - right x >= 0 for the usual
+    --min-disparity 0). The PFM keeps the float disparities with inf where the method
+    found none (occlusions, failed consistency checks); the PNG, for Middlebury-style
+    evaluation, holds disparity * --png-scale with 0 for those (a true disparity that
+    rounds to 0 is then read as unknown too).
 
-    Exits with 2 for a bad option or missing file, 1 for inconsistent pictures
-    (different sizes), leaving no output file.
+    Exits with 2 for a bad configuration, option or missing file, 1 for inconsistent
+    data (different sizes, damaged videos), leaving no output file.
     """
+    # Checked here rather than by click.Choice, whose message spans several lines.
+    if method not in METHODS:
+        raise UsageError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}",
+                         key="--method")
+    pair_options = {"--left": left, "--right": right, "--disparities": max_disparity,
+                    "--min-disparity": min_disparity, "--png": png, "--png-scale": png_scale}
     if config is not None:
-        raise UsageError("DERS configuration mode is not implemented yet (issue #4)", path=config)
+        given = [name for name, value in pair_options.items() if value is not None]
+        if given:
+            raise UsageError(f"{', '.join(given)}: stereo-pair options cannot go with a DERS "
+                             "configuration")
+        _ders_mode(config, overrides, data_dirs, method=method, output=output,
+                   depth_bits=None if depth_bits is None else int(depth_bits),
+                   transposed_rotation=transposed_rotation, options=options)
+        return
+    ders_given = [f"--{name.replace('_', '-')}" for name, value in options.items()
+                  if value is not None]
+    ders_given += ["--data-dir"] * bool(data_dirs) + ["--depth-bits"] * (depth_bits is not None)
+    ders_given += ["--transposed-rotation"] * transposed_rotation
+    if overrides or ders_given:
+        raise UsageError(f"{', '.join(ders_given + list(overrides))}: DERS options need a "
+                         "configuration file (CONFIG)")
+    min_disparity = 0 if min_disparity is None else min_disparity
+    png_scale = DEFAULT_PNG_SCALE if png_scale is None else png_scale
     for name, value in (("--left", left), ("--right", right), ("--disparities", max_disparity),
                         ("-o/--output", output)):
         if value is None:
             raise UsageError(f"{name} is required (stereo-pair mode: --left L --right R "
                              "--disparities N -o OUT.pfm)")
-    # Checked here rather than by click.Choice, whose message spans several lines.
-    if method not in METHODS:
-        raise UsageError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}",
-                         key="--method")
     if min_disparity >= max_disparity:
         raise UsageError(f"empty disparity range: --min-disparity {min_disparity} must be "
                          f"smaller than --disparities {max_disparity}")
@@ -111,6 +176,129 @@ def command(config, overrides, left, right, max_disparity, min_disparity, method
     if len(outputs) > 1:
         write_image(outputs[1], disparity_png_values(disparity, scale=png_scale))
         LOG.info("wrote %s (disparity * %g)", outputs[1], png_scale)
+
+
+# --------------------------------------------------------------------------- DERS mode
+
+#: Neighbour sides that MatchDirection matches.
+_DIRECTIONS = {1: ("left",), 2: ("right",), 3: ("left", "right")}
+
+
+def _ders_mode(config: str, overrides, data_dirs, *, method: str, output: str | None,
+               depth_bits: int | None, transposed_rotation: bool, options: dict) -> None:
+    """Depth maps of the center view that a DERS configuration describes."""
+    if output is not None:
+        options = {**options, "file_output_depth_map_image": output}
+    loaded = load_config(DersParams, config, overrides=overrides, options=options,
+                         data_dirs=data_dirs, transposed_rotation=transposed_rotation)
+    params = loaded.params
+    if params.image_segmentation:
+        LOG.warning("ImageSegmentation 1 (segment-based plane fitting) is not supported: ignored")
+    if params.matching_method == 3:
+        LOG.warning("MatchingMethod 3 (soft-segment weights) is run as plane sweeping "
+                    "(MatchingMethod 2)")
+    if params.file_camera_parameter == "":
+        raise param_entry(params, "file_camera_parameter").error("no camera parameter file given")
+    if "center_camera_name" not in loaded.cameras:
+        raise param_entry(params, "center_camera_name").error("no camera name given")
+    sides = _matched_sides(loaded)
+    fields = ["file_center_view_image"] + [f"file_{side}_view_image" for side in sides]
+    for field in fields:
+        if field not in loaded.inputs:
+            raise param_entry(params, field).error("no file given")
+    if "file_output_depth_map_image" not in loaded.outputs:
+        raise param_entry(params, "file_output_depth_map_image").error(
+            "no output file given (or -o)", UsageError)
+    target = loaded.outputs["file_output_depth_map_image"]
+    sidecar = target.with_name(target.name + ".json")
+    inputs = {loaded.inputs[field].resolve() for field in fields}
+    if target.resolve() in inputs or sidecar.resolve() in inputs:
+        raise UsageError("the output would overwrite an input", path=target)
+    size = (params.source_width, params.source_height)
+    depth_format = _depth_format(target, size, depth_bits)
+    center = loaded.cameras["center_camera_name"]
+    neighbours = [Neighbour(loaded.cameras[f"{side}_camera_name"], side) for side in sides]
+    try:
+        estimator = DersEstimator(params, center, neighbours, method=method)
+        coding = DepthCoding(estimator.depth_range, depth_format.bits,
+                             depth_type=params.depth_type)
+    except ValueError as error:
+        raise ConfigError(str(error), path=config) from None
+    znear, zfar = estimator.depth_range
+    with contextlib.ExitStack() as stack:
+        readers = [stack.enter_context(loaded.open_video(field)) for field in fields]
+        for reader in readers:
+            if reader.format.chroma == "400":
+                raise DataError("a view needs colour planes, this video is grey (4:0:0)",
+                                path=reader.path)
+        frames = frame_range(readers, params.start_frame, params.total_number_of_frames)
+        LOG.info("estimating the depth of %s from %s (%s, %d planes), %d frame%s from frame %d",
+                 center.name, " and ".join(n.camera.name for n in neighbours), method,
+                 estimator.inverse_depths.size, len(frames), "s" if len(frames) != 1 else "",
+                 frames.start)
+        LOG.info("depth values mean NearestDepthValue %.6f FarthestDepthValue %.6f "
+                 "(%d-bit, %s)", znear, zfar, depth_format.bits, sidecar)
+        writer = stack.enter_context(open_writer(target, depth_format))
+        description = stack.enter_context(atomic_output(sidecar, "w"))
+        progress = Progress(len(frames), "frames estimated")
+        for index in frames:
+            views = [_rgb_8bit_scale(reader.read(index), reader.format.bits) for reader in readers]
+            z = estimator.frame(views[0], views[1:])
+            writer.write(frame_from_luma(depth_format, coding.values(z)))
+            progress.advance()
+        json.dump(_description(center.name, znear, zfar, depth_format, params.depth_type),
+                  description, indent=2)
+        description.write("\n")
+    LOG.info("wrote %s and %s", target, sidecar)
+
+
+def _matched_sides(loaded: LoadedConfig) -> list[str]:
+    """The neighbour sides to match: named in the configuration and asked for by
+    MatchDirection."""
+    params = loaded.params
+    wanted = _DIRECTIONS[params.match_direction]
+    named = [side for side in ("left", "right") if f"{side}_camera_name" in loaded.cameras]
+    if not named:
+        raise param_entry(params, "left_camera_name").error(
+            "no neighbour view: give LeftCameraName and/or RightCameraName")
+    if params.match_direction != 3 and wanted[0] not in named:
+        raise param_entry(params, "match_direction").error(
+            f"MatchDirection {params.match_direction} matches the {wanted[0]} view, but "
+            f"{wanted[0].title()}CameraName is not given")
+    return [side for side in named if side in wanted]
+
+
+def _depth_format(path: Path, size: tuple[int, int], bits: int | None) -> YuvFormat:
+    """Format of the depth output: as its name says, else 8-bit 4:2:0 or 16-bit 4:0:0."""
+    named = format_from_name(path)
+    if named is None:
+        bits = 8 if bits is None else bits
+        return YuvFormat(*size, chroma="420" if bits == 8 else "400", bits=bits)
+    if named.size != size:
+        raise UsageError(f"the output name says {named.width}x{named.height}, the configuration "
+                         f"{size[0]}x{size[1]} (SourceWidth, SourceHeight)", path=path)
+    if named.chroma not in ("420", "400"):
+        raise UsageError(f"depth maps are written as 4:2:0 or 4:0:0, the name says "
+                         f"{named.chroma}", path=path)
+    if bits is not None and bits != named.bits:
+        raise UsageError(f"--depth-bits {bits} disagrees with the output name ({named.bits} "
+                         "bits)", path=path)
+    return named
+
+
+def _rgb_8bit_scale(planes, bits: int) -> np.ndarray:
+    """A YUV frame as (H, W, 3) float32 RGB on an 8-bit scale (the matching costs' scale)."""
+    rgb = to_working(planes, color_space=1, bits=bits)
+    return rgb / np.float32(1 << (bits - 8)) if bits > 8 else rgb
+
+
+def _description(camera: str, znear: float, zfar: float, fmt: YuvFormat,
+                 depth_type: int) -> dict:
+    """What the sidecar ``OUTPUT.json`` says: the depth values' meaning (Zfar null = infinite)."""
+    return {"camera": camera, "NearestDepthValue": znear,
+            "FarthestDepthValue": zfar if np.isfinite(zfar) else None,
+            "DepthType": depth_type, "pix_fmt": fmt.pix_fmt, "width": fmt.width,
+            "height": fmt.height}
 
 
 def disparity_png_values(disparity: np.ndarray, *, scale: float) -> np.ndarray:

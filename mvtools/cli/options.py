@@ -9,6 +9,7 @@ import sys
 import click
 
 from mvtools.errors import MvtoolsError
+from mvtools.params import Kind, param_specs
 
 LOG = logging.getLogger("mvtools")
 
@@ -107,3 +108,35 @@ def frame_range_options(function):
 transposed_rotation_option = click.option(
     "--transposed-rotation", is_flag=True,
     help="Camera parameter files store R transposed (camera to world), as VSRS 3.5 did.")
+
+
+def param_options(params_class: type, secondary_names: dict[str, tuple[str, ...]] | None = None):
+    """Decorator adding one option per key of a program's parameters: ``--search-level``
+    for SearchLevel, ``--precision`` for Precision ...
+
+    Every option defaults to None (not given), so that only the options on the command
+    line override the configuration file and its ``Key=Value`` items.
+
+    Parameters
+    ----------
+    params_class : type
+        :class:`mvtools.params.VsrsParams` or :class:`mvtools.params.DersParams`.
+    secondary_names : dict, optional
+        Field name -> further option names (``{"total_number_of_frames": ("--frames",)}``).
+    """
+    secondary_names = secondary_names or {}
+
+    def decorate(function):
+        for spec in reversed(param_specs(params_class)):
+            if spec.choices is not None:
+                # as the command line spells them: SearchLevel 2, not 2.0
+                kind = click.Choice([f"{choice:g}" if isinstance(choice, float) else str(choice)
+                                     for choice in spec.choices])
+            else:
+                kind = {int: int, float: float, str: str}[spec.type]
+            metavar = "FILE" if spec.kind is not Kind.VALUE else None
+            names = (f"--{spec.name.replace('_', '-')}", *secondary_names.get(spec.name, ()))
+            function = click.option(*names, spec.name, type=kind, default=None,
+                                    metavar=metavar, help=f"{spec.key}: {spec.help}.")(function)
+        return function
+    return decorate

@@ -20,14 +20,15 @@ import numpy as np
 
 from mvtools.cli.configs import LoadedConfig, load_config, video_format_for
 from mvtools.cli.inputs import frame_range
-from mvtools.cli.options import data_dir_option, overrides_argument, program, transposed_rotation_option
+from mvtools.cli.options import (data_dir_option, overrides_argument, param_options, program,
+                                  transposed_rotation_option)
 from mvtools.cli.progress import Progress
 from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import get_camera
 from mvtools.io.config import COMMAND_LINE, ConfigEntry, param_entry, resolve_input_path, resolve_output_path
 from mvtools.io.yuv import VideoReader, YuvFormat, frame_from_luma, open_video, open_writer
-from mvtools.params import Kind, VsrsParams, param_specs
+from mvtools.params import VsrsParams
 from mvtools.synthesis import ReferenceView, SynthesisOptions
 from mvtools.synthesis.pipeline import Synthesizer
 from mvtools.synthesis.views import FILTERS, HOLE_FILLING
@@ -42,24 +43,9 @@ LOG = logging.getLogger(__name__)
 DEFAULT_HOLE_FILLING = "background-diffusion"
 
 
-def _param_options(function):
-    """One option per VSRS key: ``--precision`` for Precision, ``--left-camera-name`` ...
-
-    Every option defaults to None (not given), so that only the options on the command
-    line override the configuration file and its ``Key=Value`` items.
-    """
-    secondary = {"total_number_of_frames": ("--frames",),
-                 "output_virtual_view_image_name": ("-o", "--output")}
-    for spec in reversed(param_specs(VsrsParams)):
-        if spec.choices is not None:
-            kind = click.Choice([str(choice) for choice in spec.choices])
-        else:
-            kind = {int: int, float: float, str: str}[spec.type]
-        metavar = "FILE" if spec.kind is not Kind.VALUE else None
-        names = (f"--{spec.name.replace('_', '-')}", *secondary.get(spec.name, ()))
-        function = click.option(*names, spec.name, type=kind, default=None, metavar=metavar,
-                                help=f"{spec.key}: {spec.help}.")(function)
-    return function
+#: Command-line names of VSRS keys beyond ``--`` + the key in snake case.
+_SECONDARY_NAMES = {"total_number_of_frames": ("--frames",),
+                    "output_virtual_view_image_name": ("-o", "--output")}
 
 
 @click.command(name="synthesize")
@@ -85,7 +71,7 @@ def _param_options(function):
               help="Also write the hole mask: 8-bit grey (4:0:0) video, 255 where no view saw the "
                    "scene (before hole filling), 0 elsewhere.")
 @transposed_rotation_option
-@_param_options
+@param_options(VsrsParams, _SECONDARY_NAMES)
 @program
 def command(config, overrides, data_dirs, extra_views, hole_filling, output_depth,
             output_depth_range, output_holes, transposed_rotation, **options):

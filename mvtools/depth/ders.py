@@ -1,0 +1,235 @@
+"""Depth estimation of a center view from its neighbours, as DERS configurations ask.
+
+:class:`DersEstimator` turns :class:`mvtools.params.DersParams` and the cameras into
+depth maps, one frame at a time: depth planes uniform in ``1/z`` (from the disparity
+search range and the BaselineBasis camera, or from NearestSearchDepthValue,
+FarthestSearchDepthValue and NumberOfDepthSteps), the plane-sweep cost volume
+(:mod:`mvtools.depth.planesweep`), a method of :data:`mvtools.depth.METHODS`, sub-pixel
+winner-takes-all, filling of the pixels no neighbour sees from the background side, a
+colour-weighted median around depth edges, and DERS's temporal enhancement.
+
+How DERS's keys are read:
+
+- MatchingMethod 0/1 (disparity shift), 2 (homography) and 4 (epipolar) are all the plane
+  sweep: for rectified cameras its homographies are the shifts, in general they follow the
+  epipolar lines. 3 (soft-segment weights) is run as the plane sweep too.
+- Precision, VerticalPrecision: sub-pixel grid of the neighbours' census signatures
+  (the colour term is interpolated at the exact positions); Filter, VerticalFilter:
+  bilinear (0) or bicubic (1, and 2 for the AVC filter) interpolation of that grid.
+- SmoothingCoefficient scales the smoothness against the data term: the costs are
+  multiplied by ``4 / SmoothingCoefficient`` before the method runs, so DERS's default 4
+  keeps the balance the methods are tuned for, and 0 is winner-takes-all on the costs.
+- TemporalEnhancement 1: 8x8 blocks whose mean absolute change of brightness (mean of
+  R, G, B) from the previous frame is below Threshold keep the previous frame's depth.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from mvtools.depth import METHODS
+from mvtools.depth.planesweep import plane_sweep_cost
+from mvtools.depth.refine import fill_from_background, median_smooth, near_depth_edges, weighted_median
+from mvtools.depth.sgm import winner_takes_all
+from mvtools.geometry.camera import Camera
+from mvtools.geometry.depth import ders_depth_range
+from mvtools.params import DersParams
+
+__all__ = ["Neighbour", "DersEstimator", "TEMPORAL_BLOCK"]
+
+#: Block size (pixels) of TemporalEnhancement's static test.
+TEMPORAL_BLOCK = 8
+
+#: SmoothingCoefficient at which the methods run with their own tuning (DERS's default).
+_NEUTRAL_SMOOTHING = 4.0
+
+
+@dataclass(frozen=True)
+class Neighbour:
+    """A neighbour view's camera and side (``"left"`` or ``"right"``) of the center."""
+
+    camera: Camera
+    side: str
+
+    def __post_init__(self):
+        if self.side not in ("left", "right"):
+            raise ValueError(f"side must be 'left' or 'right', got {self.side!r}")
+
+
+class DersEstimator:
+    """Depth of a center view from its neighbours, frame after frame.
+
+    Parameters
+    ----------
+    params : DersParams
+    center : Camera
+    neighbours : sequence of Neighbour
+        The views matched (those MatchDirection selects), at most one per side.
+    method : str
+        Key of :data:`mvtools.depth.METHODS`.
+
+    Attributes
+    ----------
+    inverse_depths : ndarray of float64, shape (D,)
+        ``1/z`` of the planes searched, increasing (far to near).
+    depth_range : (float, float)
+        (Znear, Zfar) that the output depth values mean: NearestDepthValue and
+        FarthestDepthValue, or the z of the disparity range's ends (Zfar may be inf).
+
+    Raises
+    ------
+    ValueError
+        No neighbour, two on one side, an unknown method, a BaselineBasis view that is
+        not matched, a search range of fewer than two planes or reaching behind the
+        cameras, DepthType 1 without a z search range, an unsupported
+        DepthEstimationMode.
+    """
+
+    def __init__(self, params: DersParams, center: Camera, neighbours: Sequence[Neighbour], *,
+                 method: str = "sgm"):
+        if not neighbours:
+            raise ValueError("depth estimation needs a left or a right neighbour")
+        sides = [neighbour.side for neighbour in neighbours]
+        if len(set(sides)) != len(sides):
+            raise ValueError(f"at most one neighbour per side, got sides {sides}")
+        if method not in METHODS:
+            raise ValueError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}")
+        if params.depth_estimation_mode != 0:
+            raise ValueError(f"DepthEstimationMode {params.depth_estimation_mode} (manual input "
+                             "or reference depth) is not supported; use 0 (automatic)")
+        self.params = params
+        self.center = center
+        self.neighbours = list(neighbours)
+        self.method = method
+        self.inverse_depths = self._search_planes()
+        self.depth_range = self._output_range()
+        self._previous: tuple[np.ndarray, np.ndarray] | None = None
+
+    # ------------------------------------------------------------------ planes and ranges
+
+    def _basis(self) -> tuple[float, float]:
+        """``(f B, offset)`` of the BaselineBasis view: ``1/z = (d + offset) / (f B)``."""
+        basis = self.params.baseline_basis
+        baselines = {n.side: float(np.linalg.norm(n.camera.t - self.center.t))
+                     for n in self.neighbours}
+        if basis in (2, 3):
+            side = "left" if basis == 2 else "right"
+            if side not in baselines:
+                raise ValueError(f"BaselineBasis {basis} refers to the {side} view, which is not "
+                                 "matched")
+        else:
+            pick = min if basis == 0 else max
+            side = pick(baselines, key=baselines.get)
+        if baselines[side] == 0:
+            raise ValueError(f"the {side} camera is at the center camera's position: no baseline")
+        camera = next(n.camera for n in self.neighbours if n.side == side)
+        # Principal-point offset of a parallel pair, disparity measured left x - right x.
+        offset = self.center.cx - camera.cx if side == "left" else camera.cx - self.center.cx
+        return self.center.fx * baselines[side], offset
+
+    def _search_planes(self) -> np.ndarray:
+        params = self.params
+        if params.search_depth_range is not None:
+            nearest, farthest = params.search_depth_range
+            return np.linspace(1.0 / farthest, 1.0 / nearest, params.number_of_depth_steps)
+        if params.depth_type == 1:
+            raise ValueError("DepthType 1 needs the search range in z (NearestSearchDepthValue, "
+                             "FarthestSearchDepthValue)")
+        low = params.minimum_value_of_disparity_search_range
+        high = params.maximum_value_of_disparity_search_range
+        steps = int(round((high - low) * params.search_level))
+        if steps < 1:
+            raise ValueError(f"disparity search range [{low}, {high}] at SearchLevel "
+                             f"{params.search_level:g} holds a single disparity: nothing to search")
+        focal_baseline, offset = self._basis()
+        disparities = low + np.arange(steps + 1) / params.search_level
+        if disparities[0] + offset < 0:
+            raise ValueError(f"disparity {low} with principal-point offset {offset:g} puts the "
+                             "farthest plane behind the cameras")
+        return (disparities + offset) / focal_baseline
+
+    def _output_range(self) -> tuple[float, float]:
+        params = self.params
+        if params.depth_range is not None:
+            return params.depth_range
+        focal_baseline, offset = self._basis()
+        return ders_depth_range(focal_baseline, 1.0, params.minimum_value_of_disparity_range,
+                                params.maximum_value_of_disparity_range, offset=offset)
+
+    # ------------------------------------------------------------------ frames
+
+    def frame(self, center: np.ndarray, neighbours: Sequence[np.ndarray]) -> np.ndarray:
+        """Depth of one frame of the center view.
+
+        Parameters
+        ----------
+        center : ndarray, shape (H, W, 3)
+            The center view, RGB on an 8-bit scale (0..255, float allowed).
+        neighbours : sequence of ndarray, each shape (H, W, 3)
+            The neighbours' views of the same instant, in the order of the constructor.
+
+        Returns
+        -------
+        ndarray of float64, shape (H, W)
+            Depth ``z`` along the center camera's axis (DepthType 0) or world ``Z``
+            (DepthType 1); ``inf`` for the plane at infinity.
+        """
+        params = self.params
+        center = np.asarray(center, np.float32)
+        sweep = plane_sweep_cost(
+            center, neighbours, self.center, [n.camera for n in self.neighbours],
+            self.inverse_depths, depth_type=params.depth_type,
+            precision=(params.precision, params.vertical_precision),
+            filter="linear" if params.filter == 0 else "cubic", block=params.matching_block)
+        if params.smoothing_coefficient > 0:
+            volume = METHODS[self.method](sweep.cost * np.float32(
+                _NEUTRAL_SMOOTHING / params.smoothing_coefficient), center)
+        else:
+            volume = sweep.cost
+        level = winner_takes_all(np.ascontiguousarray(volume, np.float32))
+        levels = self.inverse_depths.size
+        chosen = np.clip(np.rint(level).astype(np.intp), 0, levels - 1)
+        seen = np.take_along_axis(sweep.seen, chosen[..., None], axis=2)[..., 0]
+        level = self._clean(level, seen, center)
+        inverse = np.interp(level, np.arange(levels), self.inverse_depths)
+        with np.errstate(divide="ignore"):
+            z = 1.0 / inverse
+        if params.temporal_enhancement:
+            z = self._temporal(z, center)
+        return z
+
+    def _clean(self, level: np.ndarray, seen: np.ndarray, center: np.ndarray) -> np.ndarray:
+        """Levels of the pixels no neighbour sees from the background side, then a
+        colour-weighted median where levels were filled or jump (matchers err there)."""
+        filled = fill_from_background(level, seen)
+        # A row that no neighbour sees at all has no background to take: farthest plane.
+        filled = np.where(np.isnan(filled), 0.0, filled).astype(np.float32)
+        doubtful = ~seen | near_depth_edges(filled)
+        snapped = weighted_median(filled, center, where=doubtful)
+        return median_smooth(snapped, size=3)
+
+    def _temporal(self, z: np.ndarray, center: np.ndarray) -> np.ndarray:
+        luma = center.mean(axis=2)
+        previous, self._previous = self._previous, (luma, z)
+        if previous is None:
+            return z
+        change = _block_mean(np.abs(luma - previous[0]), TEMPORAL_BLOCK)
+        static = np.repeat(np.repeat(change < self.params.threshold, TEMPORAL_BLOCK, axis=0),
+                           TEMPORAL_BLOCK, axis=1)[:z.shape[0], :z.shape[1]]
+        kept = np.where(static, previous[1], z)
+        self._previous = (luma, kept)
+        return kept
+
+
+def _block_mean(values: np.ndarray, block: int) -> np.ndarray:
+    """Mean over ``block x block`` tiles (partial tiles at the right and bottom edges)."""
+    rows, cols = values.shape
+    tiles_y, tiles_x = -(-rows // block), -(-cols // block)
+    sums = np.add.reduceat(np.add.reduceat(values, np.arange(0, rows, block), axis=0),
+                           np.arange(0, cols, block), axis=1)
+    heights = np.minimum(block, rows - np.arange(tiles_y) * block)
+    widths = np.minimum(block, cols - np.arange(tiles_x) * block)
+    return sums / (heights[:, None] * widths[None, :])
