@@ -95,7 +95,8 @@ def test_slanted_plane_pair_with_segmentation():
     right = np.stack([ndimage.map_coordinates(texture[:, :, c], [ys, source], order=3)
                       for c in range(3)], axis=2)
     left, right = (np.clip(np.rint(v), 0, 255).astype(np.uint8) for v in (left, right))
-    estimate = estimate_disparity(left, right, max_disparity=16, segmentation=True)
+    estimate = estimate_disparity(left, right, max_disparity=16, method="sgm",
+                                  subpixel=True, segmentation=True)
     error = np.abs(estimate - disparity)[2:-2, 16:-2]
     assert np.mean(error > 1.0) < 0.01
     assert np.median(error) < 0.15
@@ -106,7 +107,8 @@ def test_segmentation_improves_venus():
     left, right = middlebury_pair(root, "venus")
     truth = load_middlebury_ground_truth(root, "venus")
     # measured bad 1.0 over all known pixels: 1.32 % with segmentation, 1.82 % without
-    disparity = estimate_disparity(left, right, max_disparity=31, segmentation=True)
+    disparity = estimate_disparity(left, right, max_disparity=31, method="sgm", subpixel=True,
+                                   segmentation=True)
     assert score_middlebury(disparity, truth, "venus") < 1.6
 
 
