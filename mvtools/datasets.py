@@ -162,19 +162,8 @@ def fill_from_farther_neighbour(disparity: np.ndarray, known: np.ndarray) -> np.
     disparity = np.asarray(disparity, dtype=np.float64)
     if not known.any():
         raise ValueError("no known disparity to fill from")
-    height, width = disparity.shape
-    columns = np.broadcast_to(np.arange(width), (height, width))
-    # Index of the nearest known pixel at or before each column, -1 if none; and
-    # at or after, width if none.
-    left = np.maximum.accumulate(np.where(known, columns, -1), axis=1)
-    right = np.minimum.accumulate(np.where(known, columns, width)[:, ::-1], axis=1)[:, ::-1]
-    padded = np.pad(disparity, ((0, 0), (1, 1)), constant_values=np.inf)
-    rows = np.arange(height)[:, None]
-    from_left = padded[rows, left + 1]
-    from_right = padded[rows, right + 1]
-    filled = np.minimum(from_left, from_right)
-    filled = np.where(np.isinf(filled), disparity[known].min(), filled)
-    return np.where(known, disparity, filled)
+    filled = fill_from_background(disparity, known).astype(np.float64)
+    return np.where(known, disparity, np.where(np.isnan(filled), disparity[known].min(), filled))
 
 
 def cones_multiview(middlebury_root: str | os.PathLike, *,
