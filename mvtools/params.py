@@ -134,6 +134,8 @@ def _checked(spec: ParamSpec, value: Any) -> Any:
             value = os.fspath(value)
         if not isinstance(value, str):
             raise ParamError(spec.key, f"{value!r} is not a string")
+        if spec.choices is not None and value not in spec.choices:
+            raise ParamError(spec.key, f"{value!r} is not one of {', '.join(spec.choices)}")
         return value
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ParamError(spec.key, f"{value!r} is not a number")
@@ -342,6 +344,10 @@ class VsrsParams(_ProgramParams):
         return _depth_range(self.right_nearest_depth_value, self.right_farthest_depth_value)
 
 
+#: Optimisation methods of depth estimation, the keys of :data:`mvtools.depth.METHODS`
+#: (named here so that reading a configuration does not load the numba kernels).
+DEPTH_METHODS = ("sgm", "bp", "graphcut", "local")
+
 #: Depth labels of an 8-bit depth map.
 _MAX_DEPTH_LABELS = 256
 
@@ -464,6 +470,10 @@ class DersParams(_ProgramParams):
     match_direction: int = _param(
         "MatchDirection", 3, "neighbours matched, 1: left only, 2: right only, 3: both",
         choices=(1, 2, 3))
+    method: str = _param(
+        "Method", "sgm",
+        "depth optimisation (mvtools extension): sgm semi-global, bp belief propagation, "
+        "graphcut alpha-expansion, local guided-filter aggregation", choices=DEPTH_METHODS)
 
     def _check_consistency(self) -> None:
         search = (self.minimum_value_of_disparity_search_range,

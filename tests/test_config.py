@@ -352,7 +352,7 @@ def test_option_values_become_command_line_entries():
 
 def test_param_specs_metadata():
     specs = {spec.key: spec for spec in param_specs(VsrsParams)}
-    assert len(specs) == 34 and len(param_specs(DersParams)) == 47
+    assert len(specs) == 34 and len(param_specs(DersParams)) == 48
     precision = specs["Precision"]
     assert (precision.name, precision.type, precision.default, precision.choices) == (
         "precision", int, 2, (1, 2, 4, 8, 16))
@@ -468,3 +468,9 @@ def test_shipped_templates_hold_every_key_with_its_default(name, cls):
     entries = read_config(template)
     assert set(entries) == {spec.key for spec in param_specs(cls)}
     assert load_params(cls, entries) == cls()
+
+
+def test_method_key_offers_exactly_the_depth_methods():
+    from mvtools.depth import METHODS
+    spec = next(spec for spec in param_specs(DersParams) if spec.key == "Method")
+    assert set(spec.choices) == set(METHODS) and spec.default in METHODS

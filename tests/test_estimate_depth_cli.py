@@ -54,7 +54,6 @@ def known_estimate(monkeypatch):
         height, width = left.shape[:2]
         return np.tile(estimate, (height // 2, width // 4))
 
-    monkeypatch.setattr("mvtools.cli.estimate_depth.METHODS", ("sgm", "local"))
     monkeypatch.setattr("mvtools.cli.estimate_depth.estimate_disparity", estimate_disparity)
     return estimate, calls
 
@@ -126,7 +125,7 @@ def test_tsukuba_scored_by_evaluate(tmp_path):
 # ------------------------------------------------------------------ bad input
 
 @pytest.mark.parametrize("args, code, fragment", [
-    (["--disparities", 16, "--method", "magic"], 2, "known methods: sgm, local"),
+    (["--disparities", 16, "--method", "magic"], 2, "'magic' is not one of 'sgm', 'bp'"),
     (["--disparities", 16, "--min-disparity", 16], 2, "empty disparity range"),
     (["--disparities", 4, "--min-disparity", 10], 2, "empty disparity range"),
     (["--disparities", 16, "--png", "{tmp}/d.png", "--min-disparity", -2], 2, "negative"),

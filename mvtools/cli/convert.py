@@ -8,7 +8,7 @@ import click
 import numpy as np
 
 from mvtools.cli.inputs import frame_range, open_input_video
-from mvtools.cli.options import (frame_range_options, program, transposed_rotation_option,
+from mvtools.cli.options import (ProgramCommand, frame_range_options, program, transposed_rotation_option,
                                   video_format_options)
 from mvtools.cli.progress import Progress
 from mvtools.color.levels import convert_planes, depth_preview, requantize
@@ -23,7 +23,7 @@ from mvtools.io.yuv import YuvFormat, frame_from_luma, open_writer
 VIDEO_EXTENSIONS = (".yuv", ".y4m")
 
 
-@click.command(name="convert")
+@click.command(name="convert", cls=ProgramCommand)
 @click.argument("inputs", nargs=-1, required=True, type=click.Path(dir_okay=False))
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
               help="Output: a .yuv/.y4m video, or an image name with a frame number pattern "

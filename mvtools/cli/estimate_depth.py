@@ -30,10 +30,10 @@ import numpy as np
 
 from mvtools.cli.configs import LoadedConfig, load_config
 from mvtools.cli.inputs import frame_range
-from mvtools.cli.options import (data_dir_option, overrides_argument, param_options, program,
+from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument, param_options, program,
                                   transposed_rotation_option)
 from mvtools.cli.progress import Progress
-from mvtools.depth import METHODS, estimate_disparity
+from mvtools.depth import estimate_disparity
 from mvtools.depth.ders import DersEstimator, Neighbour
 from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.io.atomic import atomic_output
@@ -50,19 +50,19 @@ LOG = logging.getLogger(__name__)
 DEFAULT_PNG_SCALE = 4.0
 _PNG_MAX = np.iinfo(np.uint16).max
 
-#: Default methods, the best measured in each mode: ``bp`` on the Middlebury pairs
-#: (bad 1.0 and the synthesized Cones view, :func:`mvtools.depth.estimate_disparity`),
-#: ``sgm`` in DERS mode on Kendo (the fetch error of view 3 into camera 1: median 1.53,
-#: bp 1.45, local 1.39, graphcut 1.44, in 5.3 s per frame against 9.9, 15.1 and 105 s).
+#: Default method of the stereo-pair mode, the best measured on the Middlebury pairs
+#: (bad 1.0 and the synthesized Cones view, :func:`mvtools.depth.estimate_disparity`).
+#: DERS mode's default is the Method key's, ``sgm``, the best on Kendo: the fetch error
+#: of view 3 into camera 1 is a median of 1.53, bp 1.45, local 1.39, graphcut 1.44, in
+#: 5.3 s per frame against 9.9, 15.1 and 105 s.
 PAIR_METHOD = "bp"
-DERS_METHOD = "sgm"
 
 
 #: Command-line names of DERS keys beyond ``--`` + the key in snake case.
 _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 
 
-@click.command(name="estimate-depth")
+@click.command(name="estimate-depth", cls=ProgramCommand)
 @click.argument("config", required=False, type=click.Path(dir_okay=False))
 @overrides_argument
 @data_dir_option
@@ -77,9 +77,6 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 @click.option("--min-disparity", type=int, default=None,
               help="Stereo-pair mode: smallest disparity searched, in pixels (inclusive; "
                    "default 0).")
-@click.option("--method", default=None,
-              help=f"Matching method (both modes): {', '.join(METHODS)}; default bp for a "
-                   "stereo pair, sgm in DERS mode (the best measured in each, see the README).")
 @click.option("--subpixel/--integer", default=None,
               help="Stereo-pair mode: sub-pixel disparities, or the integer levels "
                    "(default), which score better on Middlebury's bad 1.0.")
@@ -102,8 +99,7 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 @transposed_rotation_option
 @param_options(DersParams, _SECONDARY_NAMES)
 @program
-def command(config, overrides, data_dirs, left, right, max_disparity, min_disparity, method,
-            subpixel, segmentation, output, png, png_scale, depth_bits, transposed_rotation,
+def command(config, overrides, data_dirs, left, right, max_disparity, min_disparity, subpixel, segmentation, output, png, png_scale, depth_bits, transposed_rotation,
             **options):
     """Estimate depth from a DERS configuration, or disparity from a stereo pair.
 
@@ -135,10 +131,8 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
     Exits with 2 for a bad configuration, option or missing file, 1 for inconsistent
     data (different sizes, damaged videos), leaving no output file.
     """
-    # Checked here rather than by click.Choice, whose message spans several lines.
-    if method is not None and method not in METHODS:
-        raise UsageError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}",
-                         key="--method")
+    # --method (the Method key of DERS mode) chooses the method of both modes.
+    method = options.pop("method")
     pair_options = {"--left": left, "--right": right, "--disparities": max_disparity,
                     "--min-disparity": min_disparity, "--png": png, "--png-scale": png_scale,
                     "--subpixel/--integer": subpixel, "--segmentation": segmentation}
@@ -147,7 +141,7 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
         if given:
             raise UsageError(f"{', '.join(given)}: stereo-pair options cannot go with a DERS "
                              "configuration")
-        _ders_mode(config, overrides, data_dirs, method=method or DERS_METHOD, output=output,
+        _ders_mode(config, overrides, data_dirs, method=method, output=output,
                    depth_bits=None if depth_bits is None else int(depth_bits),
                    transposed_rotation=transposed_rotation, options=options)
         return
@@ -203,11 +197,13 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
 _DIRECTIONS = {1: ("left",), 2: ("right",), 3: ("left", "right")}
 
 
-def _ders_mode(config: str, overrides, data_dirs, *, method: str, output: str | None,
+def _ders_mode(config: str, overrides, data_dirs, *, method: str | None, output: str | None,
                depth_bits: int | None, transposed_rotation: bool, options: dict) -> None:
     """Depth maps of the center view that a DERS configuration describes."""
     if output is not None:
         options = {**options, "file_output_depth_map_image": output}
+    if method is not None:
+        options = {**options, "method": method}
     loaded = load_config(DersParams, config, overrides=overrides, options=options,
                          data_dirs=data_dirs, transposed_rotation=transposed_rotation)
     params = loaded.params
@@ -238,7 +234,7 @@ def _ders_mode(config: str, overrides, data_dirs, *, method: str, output: str | 
     center = loaded.cameras["center_camera_name"]
     neighbours = [Neighbour(loaded.cameras[f"{side}_camera_name"], side) for side in sides]
     try:
-        estimator = DersEstimator(params, center, neighbours, method=method)
+        estimator = DersEstimator(params, center, neighbours, method=params.method)
         coding = DepthCoding(estimator.depth_range, depth_format.bits,
                              depth_type=params.depth_type)
     except ValueError as error:
@@ -252,7 +248,7 @@ def _ders_mode(config: str, overrides, data_dirs, *, method: str, output: str | 
                                 path=reader.path)
         frames = frame_range(readers, params.start_frame, params.total_number_of_frames)
         LOG.info("estimating the depth of %s from %s (%s, %d planes), %d frame%s from frame %d",
-                 center.name, " and ".join(n.camera.name for n in neighbours), method,
+                 center.name, " and ".join(n.camera.name for n in neighbours), params.method,
                  estimator.inverse_depths.size, len(frames), "s" if len(frames) != 1 else "",
                  frames.start)
         LOG.info("depth values mean NearestDepthValue %.6f FarthestDepthValue %.6f "

@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 from mvtools.cli.inputs import frame_range, open_input_video
-from mvtools.cli.options import frame_range_options, program, video_format_options
+from mvtools.cli.options import ProgramCommand, frame_range_options, program, video_format_options
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
 from mvtools.io.images import read_image
@@ -21,7 +21,7 @@ from mvtools.metrics import iv_psnr, plane_psnr, score_disparity, ssim, yuv_psnr
 VIDEO_METRICS = ("psnr", "ssim", "ivpsnr")
 
 
-@click.command(name="evaluate")
+@click.command(name="evaluate", cls=ProgramCommand)
 @click.argument("reference", type=click.Path(dir_okay=False))
 @click.argument("test", type=click.Path(dir_okay=False))
 @click.option("--metric", "metrics", multiple=True, type=click.Choice(VIDEO_METRICS),

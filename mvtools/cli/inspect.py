@@ -10,7 +10,7 @@ import numpy as np
 
 from mvtools.cli.configs import LoadedConfig, load_config
 from mvtools.cli.inputs import open_input_video
-from mvtools.cli.options import data_dir_option, program, transposed_rotation_option, video_format_options
+from mvtools.cli.options import ProgramCommand, data_dir_option, program, transposed_rotation_option, video_format_options
 from mvtools.errors import UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import read_cameras, read_htm_cameras
@@ -24,7 +24,7 @@ _HTM_KEY_LINE = re.compile(r"^\s*\w+\s*:")
 _NUMBERS_LINE = re.compile(r"^[\s0-9.eE+-]*$")
 
 
-@click.command(name="inspect")
+@click.command(name="inspect", cls=ProgramCommand)
 @click.argument("files", nargs=-1, required=True, metavar="FILE... [Key=Value]...")
 @click.option("--as", "kind", type=click.Choice(KINDS), default=None,
               help="What the files are (default: from the extension and the content).")

@@ -66,6 +66,32 @@ def program(function):
     return wrapper
 
 
+class _OneLineUsageError(click.ClickException):
+    """A command-line mistake shown as the one line every program error is."""
+
+    exit_code = 2
+
+    def __init__(self, program_name: str, message: str):
+        super().__init__(message)
+        self.program_name = program_name
+
+    def show(self, file=None) -> None:
+        click.echo(f"{self.program_name}: error: {self.format_message()} (--help lists the "
+                   "options)", err=True, file=file)
+
+
+class ProgramCommand(click.Command):
+    """A program's command: unknown options, bad option values and missing arguments give
+    one ``PROGRAM: error: ...`` line and exit code 2, as configuration errors do, instead
+    of click's usage block."""
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        try:
+            return super().parse_args(ctx, args)
+        except click.UsageError as error:
+            raise _OneLineUsageError(ctx.command_path, error.format_message()) from None
+
+
 data_dir_option = click.option(
     "--data-dir", "data_dirs", multiple=True, type=click.Path(file_okay=False, exists=True),
     help="Folder where relative input paths of the config file are also looked for "

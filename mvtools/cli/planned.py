@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import click
 
-from mvtools.cli.options import program
+from mvtools.cli.options import ProgramCommand, program
 from mvtools.errors import UsageError
 
 PLANNED = {
@@ -31,7 +31,7 @@ PLANNED = {
 def planned_command(name: str) -> click.Command:
     purpose, issue = PLANNED[name]
 
-    @click.command(name=name, help=f"{purpose}\n\nNot implemented yet (issue #{issue}).",
+    @click.command(name=name, cls=ProgramCommand, help=f"{purpose}\n\nNot implemented yet (issue #{issue}).",
                    context_settings={"ignore_unknown_options": True})
     @click.argument("arguments", nargs=-1, type=click.UNPROCESSED)
     @program

@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 import mvtools
-from mvtools.cli.options import program
+from mvtools.cli.options import ProgramCommand, program
 from mvtools.cli.progress import Progress
 from mvtools.color.space import rgb_to_yuv
 from mvtools.errors import UsageError
@@ -28,7 +28,7 @@ from mvtools.scene import (Checkerboard, board_poses, calibration_rig, capture_c
 PARTS = ("line", "arc", "distorted", "checkerboard")
 
 
-@click.command(name="scene")
+@click.command(name="scene", cls=ProgramCommand)
 @click.argument("out_dir", type=click.Path(file_okay=False))
 @click.option("--width", type=click.IntRange(min=8), default=256, show_default=True,
               help="Picture width of the rig views (a multiple of 8).")

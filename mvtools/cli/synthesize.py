@@ -20,7 +20,7 @@ import numpy as np
 
 from mvtools.cli.configs import LoadedConfig, load_config, video_format_for
 from mvtools.cli.inputs import frame_range
-from mvtools.cli.options import (data_dir_option, overrides_argument, param_options, program,
+from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument, param_options, program,
                                   transposed_rotation_option)
 from mvtools.cli.progress import Progress
 from mvtools.errors import ConfigError, DataError, UsageError
@@ -48,7 +48,7 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",),
                     "output_virtual_view_image_name": ("-o", "--output")}
 
 
-@click.command(name="synthesize")
+@click.command(name="synthesize", cls=ProgramCommand)
 @click.argument("config", type=click.Path(dir_okay=False))
 @overrides_argument
 @data_dir_option
