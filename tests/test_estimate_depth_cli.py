@@ -127,6 +127,8 @@ def test_tsukuba_scored_by_evaluate(tmp_path):
 @pytest.mark.parametrize("args, code, fragment", [
     (["--disparities", 16, "--method", "magic"], 2, "'magic' is not one of 'sgm', 'bp'"),
     (["--disparities", 16, "--min-disparity", 16], 2, "empty disparity range"),
+    (["--disparities", 16, "--neighbour", "cam0", "v0.yuv"], 2,
+     "--neighbour: DERS options need a configuration file"),
     (["--disparities", 4, "--min-disparity", 10], 2, "empty disparity range"),
     (["--disparities", 16, "--png", "{tmp}/d.png", "--min-disparity", -2], 2, "negative"),
     (["--disparities", 16, "--png", "{tmp}/d.png", "--png-scale", 0], 2, "--png-scale"),

@@ -23,12 +23,13 @@ import contextlib
 import json
 import logging
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 import click
 import numpy as np
 
-from mvtools.cli.configs import LoadedConfig, load_config
+from mvtools.cli.configs import LoadedConfig, load_config, video_format_for
 from mvtools.cli.inputs import frame_range
 from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument, param_options, program,
                                   transposed_rotation_option)
@@ -37,9 +38,10 @@ from mvtools.depth import estimate_disparity
 from mvtools.depth.ders import DersEstimator, Neighbour
 from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.io.atomic import atomic_output
-from mvtools.io.config import param_entry
+from mvtools.io.cameras import get_camera
+from mvtools.io.config import COMMAND_LINE, ConfigEntry, param_entry, resolve_input_path
 from mvtools.io.images import read_image, write_image
-from mvtools.io.yuv import YuvFormat, format_from_name, frame_from_luma, open_writer
+from mvtools.io.yuv import YuvFormat, format_from_name, frame_from_luma, open_video, open_writer
 from mvtools.params import DersParams
 from mvtools.synthesis.working import DepthCoding, to_working
 
@@ -77,6 +79,11 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 @click.option("--min-disparity", type=int, default=None,
               help="Stereo-pair mode: smallest disparity searched, in pixels (inclusive; "
                    "default 0).")
+@click.option("--neighbour", "further_neighbours", multiple=True, nargs=2,
+              metavar="CAMERA VIDEO",
+              help="DERS mode: a further neighbour view (repeatable): camera name of the "
+                   "camera file and its video, matched in the plane sweep besides the left "
+                   "and right views of the configuration.")
 @click.option("--subpixel/--integer", default=None,
               help="Stereo-pair mode: sub-pixel disparities, or the integer levels "
                    "(default), which score better on Middlebury's bad 1.0.")
@@ -99,7 +106,8 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 @transposed_rotation_option
 @param_options(DersParams, _SECONDARY_NAMES)
 @program
-def command(config, overrides, data_dirs, left, right, max_disparity, min_disparity, subpixel, segmentation, output, png, png_scale, depth_bits, transposed_rotation,
+def command(config, overrides, data_dirs, left, right, max_disparity, min_disparity,
+            further_neighbours, subpixel, segmentation, output, png, png_scale, depth_bits, transposed_rotation,
             **options):
     """Estimate depth from a DERS configuration, or disparity from a stereo pair.
 
@@ -115,7 +123,9 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
     (MPEG text, or MPEG-I JSON when its name ends in .json) by plane sweeping: depth
     planes uniform in 1/z from the disparity search range (pixels to the BaselineBasis
     view, SearchLevel steps per pixel) or from NearestSearchDepthValue,
-    FarthestSearchDepthValue and NumberOfDepthSteps; any camera layout. The output holds
+    FarthestSearchDepthValue and NumberOfDepthSteps; any camera layout, and any number
+    of further views with --neighbour (the least cost of the views that see a point
+    counts, DERS's occlusion rule). The output holds
     MinimumValueOfDisparityRange..MaximumValueOfDisparityRange as 0..255, or
     FarthestDepthValue..NearestDepthValue when those are given; the Znear/Zfar this
     means are printed and written to OUTPUT.json. Frames: StartFrame,
@@ -142,6 +152,7 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
             raise UsageError(f"{', '.join(given)}: stereo-pair options cannot go with a DERS "
                              "configuration")
         _ders_mode(config, overrides, data_dirs, method=method, output=output,
+                   further_neighbours=further_neighbours,
                    depth_bits=None if depth_bits is None else int(depth_bits),
                    transposed_rotation=transposed_rotation, options=options)
         return
@@ -149,6 +160,7 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
                   if value is not None]
     ders_given += ["--data-dir"] * bool(data_dirs) + ["--depth-bits"] * (depth_bits is not None)
     ders_given += ["--transposed-rotation"] * transposed_rotation
+    ders_given += ["--neighbour"] * bool(further_neighbours)
     if overrides or ders_given:
         raise UsageError(f"{', '.join(ders_given + list(overrides))}: DERS options need a "
                          "configuration file (CONFIG)")
@@ -198,7 +210,8 @@ _DIRECTIONS = {1: ("left",), 2: ("right",), 3: ("left", "right")}
 
 
 def _ders_mode(config: str, overrides, data_dirs, *, method: str | None, output: str | None,
-               depth_bits: int | None, transposed_rotation: bool, options: dict) -> None:
+               further_neighbours: Sequence[tuple[str, str]], depth_bits: int | None,
+               transposed_rotation: bool, options: dict) -> None:
     """Depth maps of the center view that a DERS configuration describes."""
     if output is not None:
         options = {**options, "file_output_depth_map_image": output}
@@ -216,23 +229,33 @@ def _ders_mode(config: str, overrides, data_dirs, *, method: str | None, output:
         raise param_entry(params, "file_camera_parameter").error("no camera parameter file given")
     if "center_camera_name" not in loaded.cameras:
         raise param_entry(params, "center_camera_name").error("no camera name given")
-    sides = _matched_sides(loaded)
+    sides = _matched_sides(loaded, further=bool(further_neighbours))
     fields = ["file_center_view_image"] + [f"file_{side}_view_image" for side in sides]
     for field in fields:
         if field not in loaded.inputs:
             raise param_entry(params, field).error("no file given")
+    size = (params.source_width, params.source_height)
+    # (path, format) of every view read, the center first, then the neighbours in order
+    videos = [(loaded.inputs[field], loaded.video_format(field)) for field in fields]
+    neighbours = [Neighbour(loaded.cameras[f"{side}_camera_name"], side) for side in sides]
+    for name, video in further_neighbours:
+        label = f"--neighbour {name}"
+        camera = get_camera(loaded.all_cameras, name, path=loaded.inputs["file_camera_parameter"],
+                            key=label)
+        path = resolve_input_path(ConfigEntry(label, video, COMMAND_LINE, None),
+                                  data_dirs=data_dirs)
+        videos.append((path, video_format_for(path, size, key=label)))
+        neighbours.append(Neighbour(camera))
     if "file_output_depth_map_image" not in loaded.outputs:
         raise param_entry(params, "file_output_depth_map_image").error(
             "no output file given (or -o)", UsageError)
     target = loaded.outputs["file_output_depth_map_image"]
     sidecar = target.with_name(target.name + ".json")
-    inputs = {loaded.inputs[field].resolve() for field in fields}
+    inputs = {path.resolve() for path, _ in videos}
     if target.resolve() in inputs or sidecar.resolve() in inputs:
         raise UsageError("the output would overwrite an input", path=target)
-    size = (params.source_width, params.source_height)
     depth_format = _depth_format(target, size, depth_bits)
     center = loaded.cameras["center_camera_name"]
-    neighbours = [Neighbour(loaded.cameras[f"{side}_camera_name"], side) for side in sides]
     try:
         estimator = DersEstimator(params, center, neighbours, method=params.method)
         coding = DepthCoding(estimator.depth_range, depth_format.bits,
@@ -241,7 +264,7 @@ def _ders_mode(config: str, overrides, data_dirs, *, method: str | None, output:
         raise ConfigError(str(error), path=config) from None
     znear, zfar = estimator.depth_range
     with contextlib.ExitStack() as stack:
-        readers = [stack.enter_context(loaded.open_video(field)) for field in fields]
+        readers = [stack.enter_context(open_video(path, fmt)) for path, fmt in videos]
         for reader in readers:
             if reader.format.chroma == "400":
                 raise DataError("a view needs colour planes, this video is grey (4:0:0)",
@@ -267,16 +290,16 @@ def _ders_mode(config: str, overrides, data_dirs, *, method: str | None, output:
     LOG.info("wrote %s and %s", target, sidecar)
 
 
-def _matched_sides(loaded: LoadedConfig) -> list[str]:
+def _matched_sides(loaded: LoadedConfig, *, further: bool) -> list[str]:
     """The neighbour sides to match: named in the configuration and asked for by
-    MatchDirection."""
+    MatchDirection; none is an error unless ``further`` views are given."""
     params = loaded.params
     wanted = _DIRECTIONS[params.match_direction]
     named = [side for side in ("left", "right") if f"{side}_camera_name" in loaded.cameras]
-    if not named:
+    if not named and not further:
         raise param_entry(params, "left_camera_name").error(
             "no neighbour view: give LeftCameraName and/or RightCameraName")
-    if params.match_direction != 3 and wanted[0] not in named:
+    if params.match_direction != 3 and wanted[0] not in named and named:
         raise param_entry(params, "match_direction").error(
             f"MatchDirection {params.match_direction} matches the {wanted[0]} view, but "
             f"{wanted[0].title()}CameraName is not given")

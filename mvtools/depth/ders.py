@@ -49,14 +49,16 @@ _NEUTRAL_SMOOTHING = 4.0
 
 @dataclass(frozen=True)
 class Neighbour:
-    """A neighbour view's camera and side (``"left"`` or ``"right"``) of the center."""
+    """A neighbour view's camera and side of the center: ``"left"`` or ``"right"`` for
+    the configuration's LeftCameraName and RightCameraName, which BaselineBasis refers
+    to, or None for a further view, which only adds its costs to the sweep."""
 
     camera: Camera
-    side: str
+    side: str | None = None
 
     def __post_init__(self):
-        if self.side not in ("left", "right"):
-            raise ValueError(f"side must be 'left' or 'right', got {self.side!r}")
+        if self.side not in ("left", "right", None):
+            raise ValueError(f"side must be 'left', 'right' or None, got {self.side!r}")
 
 
 class DersEstimator:
@@ -67,7 +69,8 @@ class DersEstimator:
     params : DersParams
     center : Camera
     neighbours : sequence of Neighbour
-        The views matched (those MatchDirection selects), at most one per side.
+        The views matched: those MatchDirection selects, at most one per side, and any
+        further views (side None).
     method : str
         Key of :data:`mvtools.depth.METHODS`.
 
@@ -92,9 +95,9 @@ class DersEstimator:
                  method: str = "sgm"):
         if not neighbours:
             raise ValueError("depth estimation needs a left or a right neighbour")
-        sides = [neighbour.side for neighbour in neighbours]
+        sides = [neighbour.side for neighbour in neighbours if neighbour.side is not None]
         if len(set(sides)) != len(sides):
-            raise ValueError(f"at most one neighbour per side, got sides {sides}")
+            raise ValueError(f"at most one left and one right neighbour, got sides {sides}")
         if method not in METHODS:
             raise ValueError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}")
         if params.depth_estimation_mode != 0:
@@ -114,7 +117,11 @@ class DersEstimator:
         """``(f B, offset)`` of the BaselineBasis view: ``1/z = (d + offset) / (f B)``."""
         basis = self.params.baseline_basis
         baselines = {n.side: float(np.linalg.norm(n.camera.t - self.center.t))
-                     for n in self.neighbours}
+                     for n in self.neighbours if n.side is not None}
+        if not baselines:
+            raise ValueError("a disparity search range needs a left or right neighbour for "
+                             "its baseline (BaselineBasis); give the z search range "
+                             "(NearestSearchDepthValue, FarthestSearchDepthValue) instead")
         if basis in (2, 3):
             side = "left" if basis == 2 else "right"
             if side not in baselines:
