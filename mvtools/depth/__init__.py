@@ -20,8 +20,8 @@ from mvtools.depth.bp import bp_volume
 from mvtools.depth.cost import ad_census_cost
 from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.local import local_volume
-from mvtools.depth.refine import clean_up, refine_subpixel
-from mvtools.depth.segment import segment_image
+from mvtools.depth.refine import clean_up, left_right_consistent, refine_subpixel
+from mvtools.depth.segment import segment_image, select_segment_planes
 from mvtools.depth.sgm import sgm_volume, winner_takes_all
 
 __all__ = ["estimate_disparity", "METHODS"]
@@ -35,7 +35,8 @@ METHODS: dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]] = {
 
 def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: int,
                        min_disparity: int = 0, method: str = "bp",
-                       segmentation: bool = False, subpixel: bool = False) -> np.ndarray:
+                       segment_planes: bool = True, segmentation: bool = False,
+                       subpixel: bool = False) -> np.ndarray:
     """Disparity of the left view of a rectified pair.
 
     AD-census costs, the method's optimisation, sub-pixel winner-takes-all in both views
@@ -53,6 +54,10 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
         Smallest searched disparity.
     method : str
         Key of :data:`METHODS`.
+    segment_planes : bool
+        Colour segments of the left view whose robust disparity plane matches about as
+        well as the method's disparities (AD-census costs at most 10 % higher) take the
+        plane (:func:`mvtools.depth.segment.select_segment_planes`) before the clean-up.
     segmentation : bool
         Fill the pixels that fail the left-right check from robust disparity planes of
         colour segments of the left view where a plane explains the segment's checked
@@ -117,8 +122,16 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
                       else np.rint(disparity_left))
     disparity_right = winner_takes_all(volume, right_view=True,
                                        min_disparity=min_disparity) + min_disparity
-    segments = segment_image(left, scale=120.0, min_size=20) if segmentation else None
-    return clean_up(disparity_left, disparity_right, left, segments=segments)
+    valid = left_right_consistent(disparity_left, disparity_right)
+    segments = (segment_image(left, scale=120.0, min_size=20)
+                if segment_planes or segmentation else None)
+    if segment_planes:
+        disparity_left, valid = select_segment_planes(disparity_left, valid, segments, cost,
+                                                      left, min_disparity=min_disparity)
+        if not subpixel:
+            disparity_left = np.rint(disparity_left)
+    return clean_up(disparity_left, disparity_right, left, valid=valid,
+                    segments=segments if segmentation else None)
 
 
 def _rgb(view: np.ndarray) -> np.ndarray:

@@ -10,7 +10,8 @@ import cv2
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["segment_image", "fit_segment_planes", "plane_disparity", "fill_from_planes"]
+__all__ = ["segment_image", "fit_segment_planes", "plane_disparity", "fill_from_planes",
+           "select_segment_planes"]
 
 
 @njit(cache=True, nogil=True)
@@ -288,6 +289,20 @@ def plane_disparity(planes: np.ndarray, labels: np.ndarray) -> np.ndarray:
     return (chosen[..., 0] * xs + chosen[..., 1] * ys + chosen[..., 2]).astype(np.float32)
 
 
+def _trusted_planes(disparity, valid, labels, min_support, min_inliers, tolerance):
+    # A segment's plane is trusted when enough of its pixels are valid and enough of
+    # those lie on it; at least 3 valid pixels: fewer leave the plane undetermined.
+    if not (0 <= min_support <= 1 and 0 <= min_inliers <= 1):
+        raise ValueError(f"min_support and min_inliers are fractions in [0, 1], got "
+                         f"{min_support}, {min_inliers}")
+    planes, inliers, support = fit_segment_planes(disparity, valid, labels,
+                                                  tolerance=tolerance)
+    size = np.bincount(np.asarray(labels, np.int64).ravel(), minlength=support.size)
+    trusted = ((support >= np.maximum(min_support * size, 3))
+               & (inliers >= min_inliers * support))
+    return planes, trusted
+
+
 def fill_from_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray, *,
                      min_support: float = 0.5, min_inliers: float = 0.6,
                      tolerance: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
@@ -298,7 +313,8 @@ def fill_from_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarra
     within ``tolerance`` of it; the invalid pixels of such segments (occluded or
     mismatched) are then set on the plane and count as valid. Valid pixels keep their
     value: replacing plane outliers too helps the planar Venus but loses on the curved
-    surfaces of Cones and the 2005 sets.
+    surfaces of Cones and the 2005 sets (:func:`select_segment_planes` replaces them
+    where the matching costs agree).
 
     Parameters
     ----------
@@ -316,15 +332,134 @@ def fill_from_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarra
     disparity : ndarray of float32, shape (H, W)
     valid : ndarray of bool, shape (H, W)
     """
-    if not (0 <= min_support <= 1 and 0 <= min_inliers <= 1):
-        raise ValueError(f"min_support and min_inliers are fractions in [0, 1], got "
-                         f"{min_support}, {min_inliers}")
-    planes, inliers, support = fit_segment_planes(disparity, valid, labels,
-                                                  tolerance=tolerance)
-    size = np.bincount(np.asarray(labels, np.int64).ravel(), minlength=support.size)
-    # at least 3 valid pixels: fewer leave the plane undetermined
-    trusted = ((support >= np.maximum(min_support * size, 3))
-               & (inliers >= min_inliers * support))[labels]
-    replace = trusted & ~np.asarray(valid, bool)
+    planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers,
+                                      tolerance)
+    replace = trusted[labels] & ~np.asarray(valid, bool)
     filled = np.where(replace, plane_disparity(planes, labels), disparity)
     return filled.astype(np.float32), valid | replace
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _window_cost(cost, guide, y, x, level, radius, weight_table, outside):
+    # Colour-weighted mean over the window of the costs at a fractional level, linearly
+    # interpolated between the two integer levels around it.
+    rows, cols, levels = cost.shape
+    if not 0.0 <= level <= levels - 1:
+        return outside
+    below = min(int(level), max(levels - 2, 0))
+    fraction = level - below
+    above = min(below + 1, levels - 1)
+    total = 0.0
+    weights = 0.0
+    for wy in range(max(0, y - radius), min(rows, y + radius + 1)):
+        for wx in range(max(0, x - radius), min(cols, x + radius + 1)):
+            weight = weight_table[abs(guide[wy, wx, 0] - guide[y, x, 0])
+                                  + abs(guide[wy, wx, 1] - guide[y, x, 1])
+                                  + abs(guide[wy, wx, 2] - guide[y, x, 2])]
+            total += weight * ((1.0 - fraction) * cost[wy, wx, below]
+                               + fraction * cost[wy, wx, above])
+            weights += weight
+    return total / weights
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _segment_costs(cost, guide, pixels, starts, planes, disparity, min_disparity, radius,
+                   weight_table, outside):
+    cols = guide.shape[1]
+    segments = starts.size - 1
+    on_plane = np.zeros(segments, np.float64)
+    own = np.zeros(segments, np.float64)
+    for s in prange(segments):
+        a, b, c = planes[s, 0], planes[s, 1], planes[s, 2]
+        for i in range(starts[s], starts[s + 1]):
+            y, x = pixels[i] // cols, pixels[i] % cols
+            on_plane[s] += _window_cost(cost, guide, y, x, a * x + b * y + c - min_disparity,
+                                        radius, weight_table, outside)
+            own[s] += _window_cost(cost, guide, y, x, disparity[y, x] - min_disparity,
+                                   radius, weight_table, outside)
+    return on_plane, own
+
+
+def select_segment_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray,
+                          cost: np.ndarray, guide: np.ndarray, *, min_disparity: int = 0,
+                          margin: float = 0.1, radius: int = 2, sigma_colour: float = 20.0,
+                          min_support: float = 0.5, min_inliers: float = 0.6,
+                          tolerance: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Segments whose plane matches about as well as their disparities take the plane.
+
+    Each trusted plane (as in :func:`fill_from_planes`) is charged the matching cost of
+    the segment's valid pixels on it, and compared with the cost of their current
+    disparities; where it costs at most ``1 + margin`` times as much, every pixel of the
+    segment takes the plane and counts as valid. The costs of both are colour-weighted
+    window means (as in :func:`mvtools.depth.refine.weighted_median`): single-pixel
+    costs are too noisy to rank a plane, square windows straddle depth edges. A margin
+    above 0 lets the plane win where the pixel-wise disparities are fattened or noisy
+    but cheap: on the slanted planes of Venus and Teddy and around Tsukuba's objects;
+    curved surfaces (Cones, Dolls) cost clearly more on one plane and keep theirs.
+
+    Parameters
+    ----------
+    disparity : ndarray, shape (H, W)
+        Disparities, finite where ``valid``.
+    valid : ndarray of bool, shape (H, W)
+        Reliable pixels, e.g. left-right consistent.
+    labels : ndarray of int, shape (H, W)
+        Segments ``0 .. n - 1`` (:func:`segment_image`).
+    cost : ndarray, shape (H, W, D)
+        Matching costs of the disparities ``min_disparity .. min_disparity + D - 1``,
+        e.g. :func:`mvtools.depth.cost.ad_census_cost`.
+    guide : ndarray, shape (H, W, 3) or (H, W)
+        The view, integer values (others are rounded).
+    min_disparity : keyword-only int
+        Disparity of the costs' level 0.
+    margin : keyword-only float
+        Accepted relative cost increase of the plane, at least 0.
+    radius : keyword-only int
+        Half size of the cost windows, at least 0.
+    sigma_colour : keyword-only float
+        Absolute colour difference summed over three channels at which a window pixel's
+        weight falls to 1/e.
+    min_support, min_inliers, tolerance : keyword-only float
+        Trust in a segment's plane, see :func:`fill_from_planes`.
+
+    Returns
+    -------
+    disparity : ndarray of float32, shape (H, W)
+        Sub-pixel on the chosen planes; pixels where the plane leaves the cost's
+        disparity range keep their value.
+    valid : ndarray of bool, shape (H, W)
+    """
+    disparity = np.asarray(disparity, np.float32)
+    valid = np.asarray(valid, bool)
+    labels = np.asarray(labels, np.int64)
+    cost = np.ascontiguousarray(cost, np.float32)
+    if cost.ndim != 3 or cost.shape[:2] != disparity.shape:
+        raise ValueError(f"cost must be an (H, W, D) volume over the {disparity.shape} map, "
+                         f"got {cost.shape}")
+    if margin < 0 or radius < 0 or sigma_colour <= 0:
+        raise ValueError(f"need margin >= 0, radius >= 0, sigma_colour > 0, got {margin}, "
+                         f"{radius}, {sigma_colour}")
+    planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers,
+                                      tolerance)
+    colour = np.rint(np.asarray(guide)).astype(np.int32)
+    colour = np.ascontiguousarray(np.repeat(colour[:, :, None], 3, axis=2) if colour.ndim == 2
+                                  else colour)
+    weight_table = np.exp(-np.arange(3 * max(int(colour.max()), 0) + 1) / sigma_colour)
+    # the valid pixels grouped by segment
+    usable = valid & np.isfinite(disparity)
+    flat = np.flatnonzero(usable.ravel())
+    segment_of = labels.ravel()[flat]
+    pixels = flat[np.argsort(segment_of, kind="stable")]
+    starts = np.concatenate([[0], np.cumsum(np.bincount(segment_of,
+                                                        minlength=planes.shape[0]))])
+    on_plane, own = _segment_costs(cost, colour, pixels.astype(np.int64),
+                                   starts.astype(np.int64), planes,
+                                   np.where(usable, disparity, 0.0).astype(np.float32),
+                                   float(min_disparity), int(radius), weight_table,
+                                   float(cost.max()))
+    chosen = trusted & (on_plane <= (1.0 + margin) * own)
+    on_planes = plane_disparity(planes, labels)
+    levels = cost.shape[2]
+    replace = (chosen[labels] & (on_planes >= min_disparity)
+               & (on_planes <= min_disparity + levels - 1))
+    return np.where(replace, on_planes, disparity).astype(np.float32), valid | replace
