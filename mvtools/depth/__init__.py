@@ -21,7 +21,7 @@ from mvtools.depth.cost import ad_census_cost
 from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.local import local_volume
 from mvtools.depth.refine import clean_up, left_right_consistent, refine_subpixel
-from mvtools.depth.segment import segment_image, select_segment_planes
+from mvtools.depth.segment import segment_image, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import sgm_volume, winner_takes_all
 
 __all__ = ["estimate_disparity", "METHODS"]
@@ -57,7 +57,9 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     segment_planes : bool
         Colour segments of the left view whose robust disparity plane matches about as
         well as the method's disparities (AD-census costs at most 10 % higher) take the
-        plane (:func:`mvtools.depth.segment.select_segment_planes`) before the clean-up.
+        plane (:func:`mvtools.depth.segment.select_segment_planes`), and pixels within
+        two columns of a depth step that lie in front of their segment's plane take it
+        (:func:`mvtools.depth.segment.trim_fattening`), before the clean-up.
     segmentation : bool
         Fill the pixels that fail the left-right check from robust disparity planes of
         colour segments of the left view where a plane explains the segment's checked
@@ -128,6 +130,8 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     if segment_planes:
         disparity_left, valid = select_segment_planes(disparity_left, valid, segments, cost,
                                                       left, min_disparity=min_disparity)
+        disparity_left = trim_fattening(disparity_left, valid, segments, cost, left,
+                                        min_disparity=min_disparity)
         if not subpixel:
             disparity_left = np.rint(disparity_left)
     return clean_up(disparity_left, disparity_right, left, valid=valid,

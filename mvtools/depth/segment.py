@@ -11,7 +11,7 @@ import numpy as np
 from numba import njit, prange
 
 __all__ = ["segment_image", "fit_segment_planes", "plane_disparity", "fill_from_planes",
-           "select_segment_planes"]
+           "select_segment_planes", "trim_fattening"]
 
 
 @njit(cache=True, nogil=True)
@@ -363,21 +363,41 @@ def _window_cost(cost, guide, y, x, level, radius, weight_table, outside):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _segment_costs(cost, guide, pixels, starts, planes, disparity, min_disparity, radius,
-                   weight_table, outside):
+def _window_costs(cost, guide, pixels, levels, radius, weight_table, outside):
+    # the colour-weighted window cost of each listed (flat-indexed) pixel at its level
     cols = guide.shape[1]
-    segments = starts.size - 1
-    on_plane = np.zeros(segments, np.float64)
-    own = np.zeros(segments, np.float64)
-    for s in prange(segments):
-        a, b, c = planes[s, 0], planes[s, 1], planes[s, 2]
-        for i in range(starts[s], starts[s + 1]):
-            y, x = pixels[i] // cols, pixels[i] % cols
-            on_plane[s] += _window_cost(cost, guide, y, x, a * x + b * y + c - min_disparity,
-                                        radius, weight_table, outside)
-            own[s] += _window_cost(cost, guide, y, x, disparity[y, x] - min_disparity,
-                                   radius, weight_table, outside)
-    return on_plane, own
+    costs = np.empty(pixels.size, np.float64)
+    for i in prange(pixels.size):
+        costs[i] = _window_cost(cost, guide, pixels[i] // cols, pixels[i] % cols, levels[i],
+                                radius, weight_table, outside)
+    return costs
+
+
+class _WindowCost:
+    # Colour-weighted window means of a cost volume at fractional disparities, the
+    # measure both plane tests compare.
+    def __init__(self, cost, guide, min_disparity, radius, sigma_colour):
+        cost = np.ascontiguousarray(cost, np.float32)
+        if (cost.ndim != 3 or np.ndim(guide) not in (2, 3)
+                or cost.shape[:2] != np.shape(guide)[:2]):
+            raise ValueError(f"cost must be an (H, W, D) volume over the guide's pixels, got "
+                             f"{cost.shape} and {np.shape(guide)}")
+        if radius < 0 or sigma_colour <= 0:
+            raise ValueError(f"need radius >= 0 and sigma_colour > 0, got {radius} and "
+                             f"{sigma_colour}")
+        colour = np.rint(np.asarray(guide)).astype(np.int32)
+        self.colour = np.ascontiguousarray(np.repeat(colour[:, :, None], 3, axis=2)
+                                           if colour.ndim == 2 else colour)
+        self.table = np.exp(-np.arange(3 * max(int(self.colour.max()), 0) + 1) / sigma_colour)
+        self.cost, self.min_disparity, self.radius = cost, float(min_disparity), int(radius)
+        # beyond the searched range a disparity costs as much as the worst match
+        self.outside = float(cost.max()) if cost.size else 0.0
+
+    def __call__(self, pixels, disparities):
+        # pixels: flat indices; disparities: one per pixel
+        return _window_costs(self.cost, self.colour, np.asarray(pixels, np.int64),
+                             np.asarray(disparities, np.float64) - self.min_disparity,
+                             self.radius, self.table, self.outside)
 
 
 def select_segment_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray,
@@ -432,34 +452,94 @@ def select_segment_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.n
     disparity = np.asarray(disparity, np.float32)
     valid = np.asarray(valid, bool)
     labels = np.asarray(labels, np.int64)
-    cost = np.ascontiguousarray(cost, np.float32)
-    if cost.ndim != 3 or cost.shape[:2] != disparity.shape:
-        raise ValueError(f"cost must be an (H, W, D) volume over the {disparity.shape} map, "
-                         f"got {cost.shape}")
-    if margin < 0 or radius < 0 or sigma_colour <= 0:
-        raise ValueError(f"need margin >= 0, radius >= 0, sigma_colour > 0, got {margin}, "
-                         f"{radius}, {sigma_colour}")
+    if margin < 0:
+        raise ValueError(f"margin must be at least 0, got {margin}")
+    window_cost = _WindowCost(cost, guide, min_disparity, radius, sigma_colour)
+    if labels.shape != disparity.shape or window_cost.cost.shape[:2] != disparity.shape:
+        raise ValueError(f"cost volume of shape {window_cost.cost.shape} and labels of shape "
+                         f"{labels.shape} do not fit the {disparity.shape} map")
     planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers,
                                       tolerance)
-    colour = np.rint(np.asarray(guide)).astype(np.int32)
-    colour = np.ascontiguousarray(np.repeat(colour[:, :, None], 3, axis=2) if colour.ndim == 2
-                                  else colour)
-    weight_table = np.exp(-np.arange(3 * max(int(colour.max()), 0) + 1) / sigma_colour)
-    # the valid pixels grouped by segment
-    usable = valid & np.isfinite(disparity)
-    flat = np.flatnonzero(usable.ravel())
-    segment_of = labels.ravel()[flat]
-    pixels = flat[np.argsort(segment_of, kind="stable")]
-    starts = np.concatenate([[0], np.cumsum(np.bincount(segment_of,
-                                                        minlength=planes.shape[0]))])
-    on_plane, own = _segment_costs(cost, colour, pixels.astype(np.int64),
-                                   starts.astype(np.int64), planes,
-                                   np.where(usable, disparity, 0.0).astype(np.float32),
-                                   float(min_disparity), int(radius), weight_table,
-                                   float(cost.max()))
-    chosen = trusted & (on_plane <= (1.0 + margin) * own)
     on_planes = plane_disparity(planes, labels)
-    levels = cost.shape[2]
+    # the valid pixels' costs summed per segment, on the plane and as they are
+    pixels = np.flatnonzero((valid & np.isfinite(disparity)).ravel())
+    segment_of = labels.ravel()[pixels]
+    count = planes.shape[0]
+    on_plane = np.bincount(segment_of, window_cost(pixels, on_planes.ravel()[pixels]),
+                           minlength=count)
+    own = np.bincount(segment_of, window_cost(pixels, disparity.ravel()[pixels]),
+                      minlength=count)
+    chosen = trusted & (on_plane <= (1.0 + margin) * own)
+    levels = window_cost.cost.shape[2]
     replace = (chosen[labels] & (on_planes >= min_disparity)
                & (on_planes <= min_disparity + levels - 1))
     return np.where(replace, on_planes, disparity).astype(np.float32), valid | replace
+
+
+def trim_fattening(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray,
+                   cost: np.ndarray, guide: np.ndarray, *, min_disparity: int = 0,
+                   margin: float = 1.0, reach: int = 2, jump: float = 1.0, radius: int = 2,
+                   sigma_colour: float = 20.0, min_support: float = 0.5,
+                   min_inliers: float = 0.6, tolerance: float = 1.0) -> np.ndarray:
+    """Pixels next to a depth step that stand in front of their segment's plane take it.
+
+    Window matchers fatten the foreground: its disparity spills over the background
+    pixels whose cost windows overlap it, which also pass a left-right check, as the
+    right view is fattened alike. Such pixels lie within a few columns of a horizontal
+    disparity step and above the trusted plane (as in :func:`fill_from_planes`) of
+    their segment, which a colour edge separates from the foreground; they take the
+    plane unless its colour-weighted window cost (as in :func:`select_segment_planes`)
+    exceeds ``1 + margin`` times theirs, which keeps true foreground pixels of
+    segments that straddle a depth edge (textures without colour edges). Only larger
+    disparities are pulled back: smaller ones are no fattening, and replacing them
+    loses on curved surfaces (Dolls, Moebius).
+
+    Parameters
+    ----------
+    disparity : ndarray, shape (H, W)
+        Disparities, finite where ``valid``.
+    valid : ndarray of bool, shape (H, W)
+        Reliable pixels, the only ones fitted and changed.
+    labels : ndarray of int, shape (H, W)
+        Segments ``0 .. n - 1`` (:func:`segment_image`).
+    cost, guide, min_disparity, radius, sigma_colour
+        Matching costs and their window means, see :func:`select_segment_planes`.
+    margin : keyword-only float
+        Accepted relative cost increase of the plane, at least 0.
+    reach : keyword-only int
+        Columns on either side of a step within which pixels are examined, at least 1.
+    jump : keyword-only float
+        Smallest difference between horizontal neighbours counted as a depth step, and
+        between a pixel's disparity and its plane counted as in front of it; positive.
+    min_support, min_inliers, tolerance : keyword-only float
+        Trust in a segment's plane, see :func:`fill_from_planes`.
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W)
+    """
+    if reach < 1 or jump <= 0 or margin < 0:
+        raise ValueError(f"need reach >= 1, jump > 0, margin >= 0, got {reach}, {jump}, "
+                         f"{margin}")
+    disparity = np.asarray(disparity, np.float32)
+    valid = np.asarray(valid, bool)
+    window_cost = _WindowCost(cost, guide, min_disparity, radius, sigma_colour)
+    planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers,
+                                      tolerance)
+    on_planes = plane_disparity(planes, labels)
+    finite = np.ascontiguousarray(np.where(np.isfinite(disparity), disparity, 0.0), np.float32)
+    row = np.ones((1, 3), np.uint8)
+    step = cv2.dilate(finite, row) - cv2.erode(finite, row) > jump
+    near = cv2.dilate(step.astype(np.uint8), np.ones((1, 2 * reach + 1), np.uint8)) > 0
+    levels = window_cost.cost.shape[2]
+    with np.errstate(invalid="ignore"):
+        candidates = np.flatnonzero((trusted[labels] & near & valid
+                                     & (disparity > on_planes + jump)
+                                     & (on_planes >= min_disparity)
+                                     & (on_planes <= min_disparity + levels - 1)).ravel())
+    plane_values = on_planes.ravel()[candidates]
+    affordable = (window_cost(candidates, plane_values)
+                  <= (1.0 + margin) * window_cost(candidates, disparity.ravel()[candidates]))
+    trimmed = disparity.copy()
+    trimmed.ravel()[candidates[affordable]] = plane_values[affordable]
+    return trimmed
