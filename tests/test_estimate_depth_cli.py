@@ -49,8 +49,9 @@ def known_estimate(monkeypatch):
     calls = []
 
     def estimate_disparity(left, right, *, max_disparity, min_disparity=0, method="bp",
-                           subpixel=False, segmentation=False):
-        calls.append((left.shape, left.dtype, max_disparity, min_disparity, method))
+                           subpixel=False, segment_planes=True, segmentation=False):
+        calls.append((left.shape, left.dtype, max_disparity, min_disparity, method,
+                      segment_planes))
         height, width = left.shape[:2]
         return np.tile(estimate, (height // 2, width // 4))
 
@@ -72,7 +73,7 @@ def test_outputs_hold_the_estimate_inf_in_pfm_zero_in_png(tmp_path, pair, known_
                           "--min-disparity", 1, "--method", "local",
                           "-o", tmp_path / "d.pfm", "--png", tmp_path / "d.png", "--png-scale", 8)
     assert code == 0, err
-    assert calls == [((40, 96, 3), np.uint8, 16, 1, "local")]
+    assert calls == [((40, 96, 3), np.uint8, 16, 1, "local", True)]
     pfm = read_image(tmp_path / "d.pfm")
     full = np.tile(estimate, (20, 24))
     assert pfm.dtype == np.float32 and pfm.shape == (40, 96)
@@ -80,6 +81,14 @@ def test_outputs_hold_the_estimate_inf_in_pfm_zero_in_png(tmp_path, pair, known_
     png = read_image(tmp_path / "d.png")
     assert png.dtype == np.uint16
     np.testing.assert_array_equal(png[:2, :4], [[0, 10, 20, 0], [24, 0, 63, 32]])
+
+
+def test_segment_planes_can_be_switched_off(tmp_path, pair, known_estimate):
+    _, calls = known_estimate
+    code, _, err = invoke("--left", pair[0], "--right", pair[1], "--disparities", 16,
+                          "--no-segment-planes", "-o", tmp_path / "d.pfm")
+    assert code == 0, err
+    assert calls[0][-1] is False
 
 
 def test_grey_pictures_are_given_as_rgb(tmp_path, known_estimate):

@@ -87,6 +87,10 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 @click.option("--subpixel/--integer", default=None,
               help="Stereo-pair mode: sub-pixel disparities, or the integer levels "
                    "(default), which score better on Middlebury's bad 1.0.")
+@click.option("--segment-planes/--no-segment-planes", default=None,
+              help="Stereo-pair mode: colour segments whose disparity plane matches about as "
+                   "well as the method's disparities take it, and fattened foreground next "
+                   "to depth steps returns to the background plane (default on).")
 @click.option("--segmentation", is_flag=True, default=None,
               help="Stereo-pair mode: fill the pixels failing the left-right check from "
                    "disparity planes of colour segments.")
@@ -107,8 +111,8 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 @param_options(DersParams, _SECONDARY_NAMES)
 @program
 def command(config, overrides, data_dirs, left, right, max_disparity, min_disparity,
-            further_neighbours, subpixel, segmentation, output, png, png_scale, depth_bits, transposed_rotation,
-            **options):
+            further_neighbours, subpixel, segment_planes, segmentation, output, png, png_scale,
+            depth_bits, transposed_rotation, **options):
     """Estimate depth from a DERS configuration, or disparity from a stereo pair.
 
     \b
@@ -145,7 +149,9 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
     method = options.pop("method")
     pair_options = {"--left": left, "--right": right, "--disparities": max_disparity,
                     "--min-disparity": min_disparity, "--png": png, "--png-scale": png_scale,
-                    "--subpixel/--integer": subpixel, "--segmentation": segmentation}
+                    "--subpixel/--integer": subpixel,
+                    "--segment-planes/--no-segment-planes": segment_planes,
+                    "--segmentation": segmentation}
     if config is not None:
         given = [name for name, value in pair_options.items() if value is not None]
         if given:
@@ -189,6 +195,7 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
         disparity = estimate_disparity(left_rgb, right_rgb, max_disparity=max_disparity,
                                        min_disparity=min_disparity, method=method,
                                        subpixel=bool(subpixel),
+                                       segment_planes=segment_planes is not False,
                                        segmentation=bool(segmentation))
     except ValueError as error:
         # The method's own limits on the range or picture size, which options can break.
