@@ -20,6 +20,7 @@ from mvtools.depth.bp import bp_volume
 from mvtools.depth.cost import ad_census_cost
 from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.local import local_volume
+from mvtools.depth.patchmatch import patchmatch_planes, plane_disparity
 from mvtools.depth.refine import clean_up, refine_subpixel
 from mvtools.depth.segment import segment_image
 from mvtools.depth.sgm import sgm_volume, winner_takes_all
@@ -52,7 +53,9 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     min_disparity : int
         Smallest searched disparity.
     method : str
-        Key of :data:`METHODS`.
+        Key of :data:`METHODS`, or ``"patchmatch"``: PatchMatch stereo with slanted
+        support windows (:func:`mvtools.depth.patchmatch.patchmatch_planes`) started
+        from the ``sgm`` disparities of both views, the rest of the chain unchanged.
     segmentation : bool
         Fill the pixels that fail the left-right check from robust disparity planes of
         colour segments of the left view where a plane explains the segment's checked
@@ -94,8 +97,9 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     beyond 1 px; the synthesized view hardly changes, as the 8-bit depth maps hold
     quarter pixels.
     """
-    if method not in METHODS:
-        raise ValueError(f"{method!r} method is invalid, it must be one of {sorted(METHODS)}")
+    if method not in METHODS and method != "patchmatch":
+        raise ValueError(f"{method!r} method is invalid, it must be one of "
+                         f"{sorted(METHODS) + ['patchmatch']}")
     left = np.asarray(left)
     right = np.asarray(right)
     if left.shape != right.shape or left.ndim not in (2, 3) or (
@@ -110,13 +114,21 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
                          f"than the image width {left.shape[1]}")
     levels = max_disparity - min_disparity + 1
     cost = ad_census_cost(left, right, min_disparity=min_disparity, levels=levels)
-    volume = METHODS[method](cost, _rgb(left))
+    volume = METHODS["sgm" if method == "patchmatch" else method](cost, _rgb(left))
     grey_left, grey_right = (_rgb(view).mean(axis=2) for view in (left, right))
     disparity_left = winner_takes_all(volume) + min_disparity
-    disparity_left = (refine_subpixel(disparity_left, grey_left, grey_right) if subpixel
-                      else np.rint(disparity_left))
     disparity_right = winner_takes_all(volume, right_view=True,
                                        min_disparity=min_disparity) + min_disparity
+    if method == "patchmatch":
+        planes = patchmatch_planes(left, right, min_disparity=min_disparity,
+                                   max_disparity=max_disparity,
+                                   initial=(disparity_left, disparity_right))
+        disparity_left, disparity_right = (plane_disparity(view) for view in planes)
+        if not subpixel:
+            disparity_left = np.rint(disparity_left)
+    else:
+        disparity_left = (refine_subpixel(disparity_left, grey_left, grey_right) if subpixel
+                          else np.rint(disparity_left))
     segments = segment_image(left, scale=120.0, min_size=20) if segmentation else None
     return clean_up(disparity_left, disparity_right, left, segments=segments)
 

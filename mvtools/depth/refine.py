@@ -15,7 +15,8 @@ __all__ = ["clean_up", "left_right_consistent", "fill_from_background", "median_
 
 def clean_up(disparity_left: np.ndarray, disparity_right: np.ndarray, left: np.ndarray, *,
              median_radius: int = 5, median_sigma: float = 20.0,
-             median_size: int = 3, segments: np.ndarray | None = None) -> np.ndarray:
+             median_size: int = 3, segments: np.ndarray | None = None,
+             planes: np.ndarray | None = None) -> np.ndarray:
     """Left-right check, background fill of the rejected pixels, then a colour-weighted
     median on them and around depth edges, where matchers err, and a plain median.
     With ``segments``, rejected pixels of segments that a disparity plane explains
@@ -35,6 +36,9 @@ def clean_up(disparity_left: np.ndarray, disparity_right: np.ndarray, left: np.n
         Final plain median, 3 or 5.
     segments : ndarray of int, shape (H, W), optional
         Over-segmentation of the left view (:func:`mvtools.depth.segment.segment_image`).
+    planes : ndarray, shape (H, W, 3), optional
+        Disparity planes of the left view's pixels, for the background fill
+        (:func:`fill_from_background`).
 
     Returns
     -------
@@ -50,7 +54,7 @@ def clean_up(disparity_left: np.ndarray, disparity_right: np.ndarray, left: np.n
     valid = left_right_consistent(disparity_left, disparity_right)
     if segments is not None:
         disparity_left, valid = fill_from_planes(disparity_left, valid, segments)
-    filled = fill_from_background(disparity_left, valid)
+    filled = fill_from_background(disparity_left, valid, planes=planes)
     doubtful = ~valid | near_depth_edges(filled)
     snapped = weighted_median(filled, left, radius=median_radius, sigma_colour=median_sigma,
                               where=doubtful)
@@ -79,7 +83,8 @@ def left_right_consistent(left: np.ndarray, right: np.ndarray, *,
     return inside & (np.abs(left - other) <= tolerance)
 
 
-def fill_from_background(disparity: np.ndarray, valid: np.ndarray) -> np.ndarray:
+def fill_from_background(disparity: np.ndarray, valid: np.ndarray, *,
+                         planes: np.ndarray | None = None) -> np.ndarray:
     """Replace invalid pixels by the smaller disparity of the nearest valid pixels to
     their left and right on the same row: occlusions belong to the background.
 
@@ -87,6 +92,11 @@ def fill_from_background(disparity: np.ndarray, valid: np.ndarray) -> np.ndarray
     ----------
     disparity : ndarray, shape (H, W)
     valid : ndarray of bool, shape (H, W)
+    planes : ndarray, shape (H, W, 3), optional
+        Each pixel's disparity plane ``(a, b, c)`` of ``d = a x + b y + c`` (x the column,
+        y the row): an invalid pixel then takes the value of the nearest valid pixels'
+        planes at its own position rather than their values, which carries slanted
+        surfaces into occlusions.
 
     Returns
     -------
@@ -95,14 +105,21 @@ def fill_from_background(disparity: np.ndarray, valid: np.ndarray) -> np.ndarray
     """
     rows, cols = disparity.shape
     columns = np.broadcast_to(np.arange(cols), (rows, cols))
+    row_index = np.arange(rows)[:, None]
+    values = np.asarray(disparity, np.float32)
+
+    def value_from(source):
+        # the disparity at each pixel given by the pixel at column ``source`` of its row
+        source = np.clip(source, 0, cols - 1)
+        if planes is None:
+            return values[row_index, source]
+        plane = np.asarray(planes, np.float64)[row_index, source]
+        return plane[..., 0] * columns + plane[..., 1] * row_index + plane[..., 2]
+
     last_left = np.maximum.accumulate(np.where(valid, columns, -1), axis=1)
     next_right = np.minimum.accumulate(np.where(valid, columns, cols)[:, ::-1], axis=1)[:, ::-1]
-    values = np.asarray(disparity, np.float32)
-    row_index = np.arange(rows)[:, None]
-    from_left = np.where(last_left >= 0, values[row_index, np.clip(last_left, 0, cols - 1)],
-                         np.inf)
-    from_right = np.where(next_right < cols,
-                          values[row_index, np.clip(next_right, 0, cols - 1)], np.inf)
+    from_left = np.where(last_left >= 0, value_from(last_left), np.inf)
+    from_right = np.where(next_right < cols, value_from(next_right), np.inf)
     nearest = np.minimum(from_left, from_right)
     nearest[np.isinf(nearest)] = np.nan
     return np.where(valid, values, nearest).astype(np.float32)
