@@ -129,6 +129,17 @@ def test_fill_from_background_by_hand():
     # between 5 and 2 the smaller (farther) wins; the last pixel has only 2 to its left
     assert filled[0].tolist() == [5.0, 2.0, 2.0, 2.0, 2.0]
     assert np.isnan(filled[1]).all()
+    # with planes the valid pixels' planes are read at the filled pixels: row 0's first
+    # pixel has the plane d = x + 4 - y, its fourth d = 2, lower at every filled pixel
+    planes = np.zeros((2, 5, 3))
+    planes[0, 0] = (1.0, -1.0, 4.0)
+    planes[0, 3] = (0.0, 0.0, 2.0)
+    planes[0, 1] = planes[0, 2] = planes[0, 4] = (0.0, 0.0, 9.0)
+    filled = fill_from_background(np.where(valid, disparity, 0.0), valid, planes=planes)
+    assert filled[0].tolist() == [5.0, 2.0, 2.0, 2.0, 2.0]
+    planes[0, 3] = (-1.0, 0.0, 9.0)  # d = 9 - x: 6 at its own pixel, 7 and 8 to its left
+    filled = fill_from_background(np.where(valid, disparity, 0.0), valid, planes=planes)
+    assert filled[0].tolist() == [5.0, 5.0, 6.0, 2.0, 5.0]
 
 
 def test_census_bits_by_hand():

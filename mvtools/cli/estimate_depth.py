@@ -33,7 +33,7 @@ from mvtools.cli.inputs import frame_range
 from mvtools.cli.options import (data_dir_option, overrides_argument, param_options, program,
                                   transposed_rotation_option)
 from mvtools.cli.progress import Progress
-from mvtools.depth import METHODS, estimate_disparity
+from mvtools.depth import METHODS, PAIR_METHODS, estimate_disparity
 from mvtools.depth.ders import DersEstimator, Neighbour
 from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.io.atomic import atomic_output
@@ -78,8 +78,9 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
               help="Stereo-pair mode: smallest disparity searched, in pixels (inclusive; "
                    "default 0).")
 @click.option("--method", default=None,
-              help=f"Matching method (both modes): {', '.join(METHODS)}; default bp for a "
-                   "stereo pair, sgm in DERS mode (the best measured in each, see the README).")
+              help=f"Matching method: {', '.join(METHODS)} (both modes), patchmatch "
+                   "(stereo-pair mode); default bp for a stereo pair, sgm in DERS mode (the "
+                   "best measured in each, see the README).")
 @click.option("--subpixel/--integer", default=None,
               help="Stereo-pair mode: sub-pixel disparities, or the integer levels "
                    "(default), which score better on Middlebury's bad 1.0.")
@@ -136,9 +137,12 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
     data (different sizes, damaged videos), leaving no output file.
     """
     # Checked here rather than by click.Choice, whose message spans several lines.
-    if method is not None and method not in METHODS:
-        raise UsageError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}",
+    if method is not None and method not in PAIR_METHODS:
+        raise UsageError(f"unknown method {method!r}; known methods: {', '.join(PAIR_METHODS)}",
                          key="--method")
+    if config is not None and method is not None and method not in METHODS:
+        raise UsageError(f"method {method!r} is for stereo pairs; DERS mode methods: "
+                         f"{', '.join(METHODS)}", key="--method")
     pair_options = {"--left": left, "--right": right, "--disparities": max_disparity,
                     "--min-disparity": min_disparity, "--png": png, "--png-scale": png_scale,
                     "--subpixel/--integer": subpixel, "--segmentation": segmentation}
