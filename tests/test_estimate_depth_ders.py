@@ -185,6 +185,7 @@ def line_copy(tmp_path):
      ["FileRightViewImage", "the file name says 128x96"]),
     (["FileCameraParameter="], 2, ["FileCameraParameter", "no camera parameter file"]),
     (["--method", "nonsense"], 2, ["unknown method 'nonsense'"]),
+    (["--method", "patchmatch"], 2, ["method 'patchmatch' is for stereo pairs"]),
     (["-o", "v2_texture_256x192_yuv420p.yuv"], 2, ["the output would overwrite an input"]),
     (["--depth-bits", "16", "-o", "depth_256x192_yuv420p.yuv"], 2,
      ["--depth-bits 16 disagrees with the output name (8 bits)"]),
