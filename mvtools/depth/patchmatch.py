@@ -26,8 +26,10 @@ _LEFT, _RIGHT = -1.0, 1.0  # x in the other view = x + side * d
 def _uniform(y, x, step, draw):
     # splitmix64 finaliser of the draw's coordinates: a counter-based generator, the same
     # numbers whatever thread asks for them
-    h = (np.uint64(y) * np.uint64(0x9E3779B97F4A7C15)) ^ (np.uint64(x) * np.uint64(0xC2B2AE3D27D4EB4F))
-    h ^= np.uint64(step) * np.uint64(0x165667B19E3779F9) + np.uint64(draw) * np.uint64(0x27D4EB2F165667C5)
+    h = ((np.uint64(y) * np.uint64(0x9E3779B97F4A7C15))
+         ^ (np.uint64(x) * np.uint64(0xC2B2AE3D27D4EB4F)))
+    h ^= (np.uint64(step) * np.uint64(0x165667B19E3779F9)
+          + np.uint64(draw) * np.uint64(0x27D4EB2F165667C5))
     h ^= h >> np.uint64(30)
     h *= np.uint64(0xBF58476D1CE4E5B9)
     h ^= h >> np.uint64(27)
@@ -152,7 +154,8 @@ def _refine(planes, costs, views, side, y, x, step, low, high, min_normal_z, rad
         ny = -b * scale + normal_range * (2.0 * _uniform(y, x, step, draw + 1) - 1.0)
         nz = scale + normal_range * (2.0 * _uniform(y, x, step, draw + 2) - 1.0)
         norm = np.sqrt(nx * nx + ny * ny + nz * nz)
-        disparity = a * x + b * y + c + disparity_range * (2.0 * _uniform(y, x, step, draw + 3) - 1.0)
+        disparity = (a * x + b * y + c
+                     + disparity_range * (2.0 * _uniform(y, x, step, draw + 3) - 1.0))
         draw += 4
         if norm > 0.0 and nz / norm >= min_normal_z:
             na, nb, nc = _plane_from_normal(y, x, disparity, nx / norm, ny / norm, nz / norm)
@@ -279,18 +282,19 @@ def patchmatch_planes(left: np.ndarray, right: np.ndarray, *, min_disparity: flo
     ``method="patchmatch"`` (started from ``sgm``, integer output after the clean-up)
     on the seven pairs together, rounding after the clean-up in this comparison:
 
-    ===============================================  =====  =====  =====  =====  ====  =====  =====  ====
-    variant                                          Tsuk.  Venus  Teddy  Cones  Art   Dolls  Moeb.  mean
-    ===============================================  =====  =====  =====  =====  ====  =====  =====  ====
-    paper's cost, gamma 10, radius 17, stride 2      2.27   1.53   6.21   2.84   7.38  4.41   9.38   4.86
-    gamma 20                                         2.40   0.89   6.02   2.73   7.74  5.31   10.66  5.11
-    gamma 20, census 1                               2.44   0.98   5.04   2.50   6.73  5.05   9.61   4.62
-    gamma 20, census 1, radius 18, stride 3          2.32   0.72   5.18   2.46   6.83  5.01   9.68   4.60
-    gamma 15, census 1, radius 18, stride 3          2.30   0.77   5.20   2.34   6.65  4.40   9.24   4.42
-    gamma 10, census 1, radius 18, stride 3 (these)  2.24   0.81   5.50   2.38   6.38  3.84   8.36   4.22
-    the same with 2 iterations                       2.19   0.78   5.67   2.42   6.33  3.93   8.40   4.25
-    gamma 20, census 1, radius 20, stride 4                                                          4.93
-    ===============================================  =====  =====  =====  =====  ====  =====  =====  ====
+    ===================================  =====  =====  =====  =====  ====  =====  =====  ====
+    gamma, census, radius/stride         Tsuk.  Venus  Teddy  Cones  Art   Dolls  Moeb.  mean
+    ===================================  =====  =====  =====  =====  ====  =====  =====  ====
+    10, none, 17/2 (the paper's cost)    2.27   1.53   6.21   2.84   7.38  4.41   9.38   4.86
+    20, none, 17/2                       2.40   0.89   6.02   2.73   7.74  5.31   10.66  5.11
+    20, 1, 17/2                          2.44   0.98   5.04   2.50   6.73  5.05   9.61   4.62
+    20, 1, 18/3                          2.32   0.72   5.18   2.46   6.83  5.01   9.68   4.60
+    15, 1, 18/3                          2.30   0.77   5.20   2.34   6.65  4.40   9.24   4.42
+    10, 1, 18/3 (the defaults)           2.24   0.81   5.50   2.38   6.38  3.84   8.36   4.22
+    the same, 2 iterations               2.19   0.78   5.67   2.42   6.33  3.93   8.40   4.25
+    the same, random start only          2.17   1.66   6.93   3.01   6.80  4.05   8.24   4.69
+    20, 1, 20/4                                                                          4.93
+    ===================================  =====  =====  =====  =====  ====  =====  =====  ====
 
     The census term is the largest gain (Teddy, Art, Moebius); every third pixel of a
     37x37 window scores as every second of a 35x35 one for half the time (about 7 s per
