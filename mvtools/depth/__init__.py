@@ -102,11 +102,11 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     seven times faster for 0.15 point more. Sub-pixel values lower the mean absolute
     error (Venus 0.28 to 0.19 px over the pixels within 1 px) but push pixels whose
     integer level is one off beyond 1 px; the synthesized view hardly changes, as the
-    8-bit depth maps hold quarter pixels. ``patchmatch`` (slanted planes, :mod:`mvtools.depth.patchmatch`) has
-    the lowest mean, 4.21, and the best scores on all pairs but Moebius, whose large
-    uniform background its windows fatten into; it takes 6.9 s per Cones pair on an
-    otherwise idle machine (the seven pairs' total is estimated from it), and gives
-    the best synthesized view.
+    8-bit depth maps hold quarter pixels. ``patchmatch`` (slanted planes,
+    :mod:`mvtools.depth.patchmatch`) has the lowest mean, 4.21, and the best scores on
+    all pairs but Moebius, whose large uniform background its windows fatten into; it
+    takes 6.9 s per Cones pair on an otherwise idle machine (the seven pairs' total is
+    estimated from it), and gives the best synthesized view.
     """
     if method not in PAIR_METHODS:
         raise ValueError(f"{method!r} method is invalid, it must be one of "
