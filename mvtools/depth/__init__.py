@@ -92,8 +92,8 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     ``sgm``, sub-pixel          4.41     1.82   6.67   2.83   8.00   5.77   8.76     1.4   30.18
     ``sgm``, both options       4.20     1.25   6.19   2.88   6.96   4.97   8.27     2.6   30.06
     ``graphcut``                2.50     3.16   8.65   2.82   7.15   4.02   6.74     26.2  30.17
-    ``patchmatch``              2.23     0.87   5.46   2.34   6.28   3.85   8.40     ~45   30.70
-    ``patchmatch``, sub-pixel   3.85     1.22   5.73   2.46   6.89   4.68   8.97     ~45
+    ``patchmatch``              2.23     0.87   5.46   2.34   6.28   3.85   8.40     43.9  30.70
+    ``patchmatch``, sub-pixel   3.85     1.22   5.73   2.46   6.89   4.68   8.97     ~44
     OpenCV StereoSGBM           5.66     3.06   15.3   7.22   16.5   10.8   10.8     0.5   28.49
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
 
@@ -105,8 +105,8 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     8-bit depth maps hold quarter pixels. ``patchmatch`` (slanted planes,
     :mod:`mvtools.depth.patchmatch`) has the lowest mean, 4.21, and the best scores on
     all pairs but Moebius, whose large uniform background its windows fatten into; it
-    takes 6.9 s per Cones pair on an otherwise idle machine (the seven pairs' total is
-    estimated from it), and gives the best synthesized view.
+    takes 7.0 s per Cones pair on an otherwise idle machine, and gives the best
+    synthesized view.
     """
     if method not in PAIR_METHODS:
         raise ValueError(f"{method!r} method is invalid, it must be one of "
