@@ -20,7 +20,7 @@ from common import DATA, report
 from mvtools.datasets import (cones_multiview, estimate_cones_disparities,
                               load_middlebury_ground_truth, middlebury_pair,
                               opencv_sgbm_reference, score_middlebury, write_cones_case)
-from mvtools.depth import METHODS, estimate_disparity
+from mvtools.depth import PAIR_METHODS, estimate_disparity
 from mvtools.io.middlebury import MIDDLEBURY_SETS
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.metrics import psnr
@@ -38,7 +38,7 @@ def _timed(function):
 
 
 def main() -> None:
-    methods = os.environ.get("MVTOOLS_BENCH_METHODS", ",".join(METHODS)).split(",")
+    methods = os.environ.get("MVTOOLS_BENCH_METHODS", ",".join(PAIR_METHODS)).split(",")
     names = os.environ.get("MVTOOLS_BENCH_SETS", ",".join(SETS)).split(",")
     root = DATA / "middlebury"
     # compile every kernel once so that no timing includes numba's compilation

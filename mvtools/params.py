@@ -344,9 +344,10 @@ class VsrsParams(_ProgramParams):
         return _depth_range(self.right_nearest_depth_value, self.right_farthest_depth_value)
 
 
-#: Optimisation methods of depth estimation, the keys of :data:`mvtools.depth.METHODS`
-#: (named here so that reading a configuration does not load the numba kernels).
-DEPTH_METHODS = ("sgm", "bp", "graphcut", "local")
+#: Methods of depth estimation, :data:`mvtools.depth.PAIR_METHODS` (named here so that
+#: reading a configuration does not load the numba kernels); all but ``patchmatch``
+#: also run in DERS mode.
+DEPTH_METHODS = ("sgm", "bp", "graphcut", "local", "patchmatch")
 
 #: Depth labels of an 8-bit depth map.
 _MAX_DEPTH_LABELS = 256
@@ -473,7 +474,8 @@ class DersParams(_ProgramParams):
     method: str = _param(
         "Method", "sgm",
         "depth optimisation (mvtools extension): sgm semi-global, bp belief propagation, "
-        "graphcut alpha-expansion, local guided-filter aggregation", choices=DEPTH_METHODS)
+        "graphcut alpha-expansion, local guided-filter aggregation, patchmatch slanted "
+        "planes (stereo pairs only)", choices=DEPTH_METHODS)
 
     def _check_consistency(self) -> None:
         search = (self.minimum_value_of_disparity_search_range,

@@ -471,6 +471,6 @@ def test_shipped_templates_hold_every_key_with_its_default(name, cls):
 
 
 def test_method_key_offers_exactly_the_depth_methods():
-    from mvtools.depth import METHODS
+    from mvtools.depth import METHODS, PAIR_METHODS
     spec = next(spec for spec in param_specs(DersParams) if spec.key == "Method")
-    assert set(spec.choices) == set(METHODS) and spec.default in METHODS
+    assert set(spec.choices) == set(PAIR_METHODS) and spec.default in METHODS

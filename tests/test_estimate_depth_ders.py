@@ -219,6 +219,7 @@ def line_copy(tmp_path):
      ["FileRightViewImage", "the file name says 128x96"]),
     (["FileCameraParameter="], 2, ["FileCameraParameter", "no camera parameter file"]),
     (["Method=nonsense"], 2, ["<command line>: Method: 'nonsense' is not one of sgm, bp"]),
+    (["--method", "patchmatch"], 2, ["method 'patchmatch' is for stereo pairs"]),
     (["-o", "v2_texture_256x192_yuv420p.yuv"], 2, ["the output would overwrite an input"]),
     (["--neighbour", "cam7", "v1_texture_256x192_yuv420p.yuv"], 2,
      ["--neighbour cam7: no camera 'cam7'"]),

@@ -34,7 +34,7 @@ from mvtools.cli.inputs import frame_range
 from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument, param_options, program,
                                   transposed_rotation_option)
 from mvtools.cli.progress import Progress
-from mvtools.depth import estimate_disparity
+from mvtools.depth import METHODS, estimate_disparity
 from mvtools.depth.ders import DersEstimator, Neighbour
 from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.io.atomic import atomic_output
@@ -227,6 +227,10 @@ def _ders_mode(config: str, overrides, data_dirs, *, method: str | None, output:
     loaded = load_config(DersParams, config, overrides=overrides, options=options,
                          data_dirs=data_dirs, transposed_rotation=transposed_rotation)
     params = loaded.params
+    if params.method not in METHODS:
+        raise param_entry(params, "method").error(
+            f"method {params.method!r} is for stereo pairs; DERS mode methods: "
+            f"{', '.join(METHODS)}")
     if params.image_segmentation:
         LOG.warning("ImageSegmentation 1 (segment-based plane fitting) is not supported: ignored")
     if params.matching_method == 3:

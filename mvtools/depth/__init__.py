@@ -17,20 +17,25 @@ from typing import Callable
 import numpy as np
 
 from mvtools.depth.bp import bp_volume
-from mvtools.depth.cost import ad_census_cost
+from mvtools.depth.cost import ad_census_cost, check_pair
 from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.local import local_volume
+from mvtools.depth.patchmatch import patchmatch_planes, plane_disparity
 from mvtools.depth.refine import clean_up, left_right_consistent, refine_subpixel
 from mvtools.depth.segment import segment_image, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import sgm_volume, winner_takes_all
 
-__all__ = ["estimate_disparity", "METHODS"]
+__all__ = ["estimate_disparity", "METHODS", "PAIR_METHODS"]
 
 #: name -> ``method(cost, guide) -> volume``: ``cost`` of shape (H, W, D) float32, ``guide``
 #: the view the costs belong to, (H, W, 3) float32 RGB; the returned (H, W, D) float32
 #: volume is minimal at each pixel's chosen level.
 METHODS: dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]] = {
     "sgm": sgm_volume, "local": local_volume, "graphcut": graphcut_volume, "bp": bp_volume}
+
+#: methods of :func:`estimate_disparity`: those of :data:`METHODS` and PatchMatch stereo,
+#: which optimises disparity planes rather than a cost volume.
+PAIR_METHODS: tuple[str, ...] = (*METHODS, "patchmatch")
 
 
 def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: int,
@@ -53,7 +58,10 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     min_disparity : int
         Smallest searched disparity.
     method : str
-        Key of :data:`METHODS`.
+        One of :data:`PAIR_METHODS`: a key of :data:`METHODS`, or ``"patchmatch"``:
+        PatchMatch stereo with slanted support windows
+        (:func:`mvtools.depth.patchmatch.patchmatch_planes`) started from the ``sgm``
+        disparities of both views, the rest of the chain unchanged.
     segment_planes : bool
         Colour segments of the left view whose robust disparity plane matches about as
         well as the method's disparities (AD-census costs at most 10 % higher) take the
@@ -85,55 +93,57 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
     method, options             Tsukuba  Venus  Teddy  Cones  Art    Dolls  Moebius  s     im4
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
-    ``bp`` (the default)        1.73     0.54   5.59   2.45   6.85   3.75   7.35     2.5   30.31
-    ``bp``, no segment planes   2.61     2.16   7.05   2.71   7.07   3.96   7.46     1.7   30.40
-    ``bp``, sub-pixel           6.53     0.35   5.93   2.98   7.37   5.04   7.82     1.6   30.22
-    ``bp``, segmentation        2.23     0.57   5.47   2.55   6.71   3.98   7.34     1.9   30.15
-    ``sgm``                     2.27     0.50   5.31   2.73   6.36   4.37   8.38     0.64  30.14
-    ``sgm``, no segment planes  2.68     1.88   6.55   2.85   7.11   4.75   8.28     0.66  30.15
-    ``sgm``, sub-pixel and seg. 4.49     0.32   5.46   3.02   7.32   5.70   8.22     0.86  30.07
-    ``graphcut``                2.06     0.64   8.08   2.51   6.87   3.77   6.40     8.8   30.11
-    ``local``                   2.83     0.84   6.51   3.04   8.22   5.12   8.44     0.89  29.98
-    OpenCV StereoSGBM           5.66     3.06   15.3   7.22   16.5   10.8   10.8     0.05  28.49
+    ``bp`` (the default)        1.73     0.54   5.59   2.45   6.85   3.75   7.35     0.73  30.31
+    ``bp``, no segment planes   2.61     2.16   7.05   2.71   7.07   3.96   7.46     0.56  30.40
+    ``bp``, sub-pixel           6.53     0.35   5.93   2.98   7.37   5.04   7.82           30.22
+    ``bp``, segmentation        2.23     0.57   5.47   2.55   6.71   3.98   7.34           30.15
+    ``patchmatch``              2.37     0.30   5.30   2.18   5.98   4.04   7.73     7.0   30.62
+    ``patchmatch``, no planes   2.23     0.87   5.46   2.34   6.28   3.85   8.40     6.8   30.70
+    ``sgm``                     2.27     0.50   5.31   2.73   6.36   4.37   8.38     0.30  30.14
+    ``sgm``, no segment planes  2.68     1.88   6.55   2.85   7.11   4.75   8.28     0.13  30.15
+    ``sgm``, sub-pixel and seg. 4.49     0.32   5.46   3.02   7.32   5.70   8.22           30.07
+    ``graphcut``                2.06     0.64   8.08   2.51   6.87   3.77   6.40     5.5   30.11
+    ``local``                   2.83     0.84   6.51   3.04   8.22   5.12   8.44     1.4   29.98
+    OpenCV StereoSGBM           5.66     3.06   15.3   7.22   16.5   10.8   10.8     0.04  28.49
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
 
-    ``bp`` with integer levels and segment planes has the lowest mean (4.04 against
-    4.28 for ``sgm``, 4.72 for ``bp`` without the planes), so it is the default; the
-    plane selection and fattening trim add about 0.7 s per Cones pair (segmentation
-    0.3 s, the two plane steps 0.3 s). They lower every set with ``bp`` and all but
-    Moebius with ``sgm`` (+0.1); Moebius keeps most of its errors, on untextured facets
-    and dark background where the planes are fitted to wrong disparities. The
-    synthesized view loses 0.1 dB. Their parameters were chosen
-    on all seven sets together: a plane margin of 7.5, 10 and 12.5 % gives a mean of
-    4.21, 4.15 and 4.20 without the trim; the trim reach of 1, 2 or 3 columns 4.06,
-    4.07, 4.08 without its cost test, 4.04 with it. Sub-pixel values lower the mean
-    absolute error (Venus 0.28 to 0.19 px over the pixels within 1 px, without the
-    planes) but push pixels whose integer level is one off beyond 1 px; the
-    synthesized view hardly changes, as the 8-bit depth maps hold quarter pixels.
+    (s: seconds per Cones pair on two idle cores.) ``bp`` with integer levels and
+    segment planes is the default: the only combination under the bars of all four
+    2001/2003 pairs (Tsukuba 2.0, Venus 1.0, Teddy 6.0, Cones 3.0) and, with a mean of
+    4.04, within 0.05 of the lowest (``patchmatch``, 3.99, ten times slower).
+    ``patchmatch`` gives the best synthesized view. The plane selection and fattening
+    trim (segmentation 0.11 s, the two plane steps 0.07 s per Cones pair) lower every
+    set with ``bp`` and all but Moebius with ``sgm`` (+0.1); Moebius keeps most of its
+    errors, on untextured facets and background where the planes are fitted to wrong
+    disparities. Their parameters were chosen on all seven sets together: a plane
+    margin of 7.5, 10 and 12.5 % gives a mean of 4.21, 4.15 and 4.20 without the trim;
+    the trim reach of 1, 2 or 3 columns 4.06, 4.07, 4.08 without its cost test, 4.04
+    with it. Sub-pixel values lower the mean absolute error (Venus 0.28 to 0.19 px over
+    the pixels within 1 px, without the planes) but push pixels whose integer level is
+    one off beyond 1 px; the synthesized view hardly changes, as the 8-bit depth maps
+    hold quarter pixels.
     """
-    if method not in METHODS:
-        raise ValueError(f"{method!r} method is invalid, it must be one of {sorted(METHODS)}")
-    left = np.asarray(left)
-    right = np.asarray(right)
-    if left.shape != right.shape or left.ndim not in (2, 3) or (
-            left.ndim == 3 and left.shape[2] != 3):
-        raise ValueError(f"views must be (H, W) or (H, W, 3) arrays of the same shape, got "
-                         f"{left.shape} and {right.shape}")
-    if min_disparity > max_disparity:
-        raise ValueError(f"min_disparity {min_disparity} exceeds max_disparity "
-                         f"{max_disparity}")
-    if max_disparity - min_disparity >= left.shape[1]:
-        raise ValueError(f"disparity range {min_disparity}..{max_disparity} is not narrower "
-                         f"than the image width {left.shape[1]}")
+    if method not in PAIR_METHODS:
+        raise ValueError(f"{method!r} method is invalid, it must be one of "
+                         f"{sorted(PAIR_METHODS)}")
+    left, right = check_pair(left, right, min_disparity=min_disparity,
+                             max_disparity=max_disparity)
     levels = max_disparity - min_disparity + 1
     cost = ad_census_cost(left, right, min_disparity=min_disparity, levels=levels)
-    volume = METHODS[method](cost, _rgb(left))
+    volume = METHODS["sgm" if method == "patchmatch" else method](cost, _rgb(left))
     grey_left, grey_right = (_rgb(view).mean(axis=2) for view in (left, right))
     disparity_left = winner_takes_all(volume) + min_disparity
-    disparity_left = (refine_subpixel(disparity_left, grey_left, grey_right) if subpixel
-                      else np.rint(disparity_left))
     disparity_right = winner_takes_all(volume, right_view=True,
                                        min_disparity=min_disparity) + min_disparity
+    if method == "patchmatch":
+        planes = patchmatch_planes(left, right, min_disparity=min_disparity,
+                                   max_disparity=max_disparity,
+                                   initial=(disparity_left, disparity_right))
+        disparity_left, disparity_right = (plane_disparity(view) for view in planes)
+    elif subpixel:
+        disparity_left = refine_subpixel(disparity_left, grey_left, grey_right)
+    if not subpixel:
+        disparity_left = np.rint(disparity_left)
     valid = left_right_consistent(disparity_left, disparity_right)
     segments = (segment_image(left, scale=120.0, min_size=20)
                 if segment_planes or segmentation else None)

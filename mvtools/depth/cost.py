@@ -8,7 +8,7 @@ import llvmlite.ir as ir
 from numba import njit, prange, types
 from numba.extending import intrinsic
 
-__all__ = ["census_transform", "ad_census_cost"]
+__all__ = ["census_transform", "ad_census_cost", "check_pair", "popcount"]
 
 
 def census_transform(grey: np.ndarray, *, window: tuple[int, int] = (7, 9)) -> np.ndarray:
@@ -51,7 +51,7 @@ def _census(padded, height, width):
 
 
 @intrinsic
-def _popcount(typing_context, value):
+def popcount(typing_context, value):
     # LLVM's population count: one machine instruction where the CPU has it.
     def codegen(context, builder, signature, args):
         function = builder.module.declare_intrinsic("llvm.ctpop", [ir.IntType(64)])
@@ -75,9 +75,34 @@ def _ad_census_volume(census_left, census_right, colour_left, colour_right, min_
                     continue
                 colour = (abs(red - colour_right[y, xr, 0]) + abs(green - colour_right[y, xr, 1])
                           + abs(blue - colour_right[y, xr, 2]))
-                volume[y, x, k] = (census_table[_popcount(signature ^ census_right[y, xr])]
+                volume[y, x, k] = (census_table[popcount(signature ^ census_right[y, xr])]
                                    + colour_table[colour])
     return volume
+
+
+def check_pair(left: np.ndarray, right: np.ndarray, *, min_disparity: int,
+               max_disparity: int) -> tuple[np.ndarray, np.ndarray]:
+    """The views of a rectified pair as arrays, checked for what every matcher needs.
+
+    Raises
+    ------
+    ValueError
+        Views of different shapes or neither (H, W) nor (H, W, 3), an empty disparity
+        range, or one at least as wide as the views.
+    """
+    left = np.asarray(left)
+    right = np.asarray(right)
+    if left.shape != right.shape or left.ndim not in (2, 3) or (
+            left.ndim == 3 and left.shape[2] != 3):
+        raise ValueError(f"views must be (H, W) or (H, W, 3) arrays of the same shape, got "
+                         f"{left.shape} and {right.shape}")
+    if min_disparity > max_disparity:
+        raise ValueError(f"min_disparity {min_disparity} exceeds max_disparity "
+                         f"{max_disparity}")
+    if max_disparity - min_disparity >= left.shape[1]:
+        raise ValueError(f"disparity range {min_disparity}..{max_disparity} is not narrower "
+                         f"than the image width {left.shape[1]}")
+    return left, right
 
 
 def ad_census_cost(left: np.ndarray, right: np.ndarray, *, min_disparity: int, levels: int,

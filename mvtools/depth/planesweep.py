@@ -21,7 +21,7 @@ import cv2
 import numpy as np
 from numba import njit, prange
 
-from mvtools.depth.cost import census_transform
+from mvtools.depth.cost import census_transform, popcount
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.homography import plane_homography
 
@@ -195,16 +195,6 @@ def _shifted_census(grey: np.ndarray, precision: tuple[int, int], interpolation:
     return signatures
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _popcount(value):
-    # SWAR bit count of a uint64 (Hacker's Delight 5-2).
-    value = value - ((value >> np.uint64(1)) & np.uint64(0x5555555555555555))
-    value = ((value & np.uint64(0x3333333333333333))
-             + ((value >> np.uint64(2)) & np.uint64(0x3333333333333333)))
-    value = (value + (value >> np.uint64(4))) & np.uint64(0x0F0F0F0F0F0F0F0F)
-    return (value * np.uint64(0x0101010101010101)) >> np.uint64(56)
-
-
 @njit(cache=True, nogil=True, parallel=True)
 def _sweep_neighbour(center_census, center, census, image, homographies, census_table,
                      colour_scale, cost, seen):
@@ -238,7 +228,7 @@ def _sweep_neighbour(center_census, center, census, image, homographies, census_
                 row = min(max(int(np.rint(v * steps_y)), 0), (height - 1) * steps_y)
                 signature = census[row % steps_y, column % steps_x, row // steps_y,
                                    column // steps_x]
-                value = (census_table[_popcount(center_census[y, x] ^ signature)]
+                value = (census_table[popcount(center_census[y, x] ^ signature)]
                          + np.float32(1.0) - np.float32(np.exp(-colour * colour_scale)))
                 if not seen[y, x, k] or value < cost[y, x, k]:
                     cost[y, x, k] = value
