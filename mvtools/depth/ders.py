@@ -19,6 +19,10 @@ How DERS's keys are read:
 - SmoothingCoefficient scales the smoothness against the data term: the costs are
   multiplied by ``4 / SmoothingCoefficient`` before the method runs, so DERS's default 4
   keeps the balance the methods are tuned for, and 0 is winner-takes-all on the costs.
+- ImageSegmentation 1: the segment planes of the stereo-pair mode on the levels of the
+  sweep (colour segments of the center view take their robust plane of levels where it
+  costs at most 10 % more, fattened foreground falls back onto its segment's plane);
+  SegmentationMethod and MaxCluster are not read.
 - TemporalEnhancement 1: 8x8 blocks whose mean absolute change of brightness (mean of
   R, G, B) from the previous frame is below Threshold keep the previous frame's depth.
 """
@@ -33,6 +37,7 @@ import numpy as np
 from mvtools.depth import METHODS
 from mvtools.depth.planesweep import plane_sweep_cost
 from mvtools.depth.refine import fill_from_background, median_smooth, near_depth_edges, weighted_median
+from mvtools.depth.segment import segment_image, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import winner_takes_all
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import ders_depth_range
@@ -200,6 +205,8 @@ class DersEstimator:
         levels = self.inverse_depths.size
         chosen = np.clip(np.rint(level).astype(np.intp), 0, levels - 1)
         seen = np.take_along_axis(sweep.seen, chosen[..., None], axis=2)[..., 0]
+        if params.image_segmentation:
+            level = self._segment_planes(level, seen, sweep.cost, center)
         level = self._clean(level, seen, center)
         inverse = np.interp(level, np.arange(levels), self.inverse_depths)
         with np.errstate(divide="ignore"):
@@ -207,6 +214,16 @@ class DersEstimator:
         if params.temporal_enhancement:
             z = self._temporal(z, center)
         return z
+
+    def _segment_planes(self, level: np.ndarray, seen: np.ndarray, cost: np.ndarray,
+                        center: np.ndarray) -> np.ndarray:
+        """ImageSegmentation 1: colour segments of the center view whose robust plane of
+        levels (planes in 1/z, hence in disparity for parallel cameras) costs about as much
+        as their levels take it, and fattened foreground next to depth steps falls back
+        onto its segment's plane, as in the stereo-pair mode."""
+        segments = segment_image(center, scale=120.0, min_size=20)
+        level, valid = select_segment_planes(level, seen, segments, cost, center)
+        return trim_fattening(level, valid, segments, cost, center)
 
     def _clean(self, level: np.ndarray, seen: np.ndarray, center: np.ndarray) -> np.ndarray:
         """Levels of the pixels no neighbour sees from the background side, then a
