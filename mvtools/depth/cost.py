@@ -8,7 +8,7 @@ import llvmlite.ir as ir
 from numba import njit, prange, types
 from numba.extending import intrinsic
 
-__all__ = ["census_transform", "ad_census_cost", "check_pair", "popcount"]
+__all__ = ["census_transform", "ad_census_cost", "as_colour", "check_pair", "popcount"]
 
 
 def census_transform(grey: np.ndarray, *, window: tuple[int, int] = (7, 9)) -> np.ndarray:
@@ -131,8 +131,8 @@ def ad_census_cost(left: np.ndarray, right: np.ndarray, *, min_disparity: int, l
     ndarray of float32, shape (H, W, levels)
         Costs in [0, 2].
     """
-    colour_left = _as_colour(left)
-    colour_right = _as_colour(right)
+    colour_left = as_colour(left)
+    colour_right = as_colour(right)
     census_left = census_transform(colour_left.mean(axis=2), window=census_window)
     census_right = census_transform(colour_right.mean(axis=2), window=census_window)
     # Both terms tabulated over their integer arguments: the Hamming distance and the
@@ -146,7 +146,9 @@ def ad_census_cost(left: np.ndarray, right: np.ndarray, *, min_disparity: int, l
                              np.float32(outside_cost))
 
 
-def _as_colour(image: np.ndarray) -> np.ndarray:
-    # grey views as three equal channels: one kernel serves both
+def as_colour(image: np.ndarray) -> np.ndarray:
+    """An (H, W, 3) or (H, W) view as contiguous (H, W, 3) int32, rounded, grey repeated in
+    three equal channels: one kernel then serves colour and grey views."""
     image = np.rint(np.asarray(image)).astype(np.int32)
-    return np.repeat(image[:, :, None], 3, axis=2) if image.ndim == 2 else image
+    return np.ascontiguousarray(np.repeat(image[:, :, None], 3, axis=2) if image.ndim == 2
+                                else image)

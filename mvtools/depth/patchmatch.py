@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from mvtools.depth.cost import census_transform, check_pair, popcount
+from mvtools.depth.cost import as_colour, census_transform, check_pair, popcount
 
 __all__ = ["patchmatch_planes", "plane_disparity"]
 
@@ -311,7 +311,8 @@ def patchmatch_planes(left: np.ndarray, right: np.ndarray, *, min_disparity: flo
                          f"{iterations}, {stride} and {radius}")
     if not 0.0 <= max_slant < 90.0:
         raise ValueError(f"max_slant must be in [0, 90) degrees, got {max_slant}")
-    colours = [_colour(view) for view in (left, right)]
+    # integer-valued floats, for the colour weight table
+    colours = [as_colour(view).astype(np.float32) for view in (left, right)]
     images = [np.ascontiguousarray(np.dstack([colour, np.gradient(colour.mean(axis=2), axis=1)]),
                                    np.float32) for colour in colours]
     largest = int(max(colours[0].max(), colours[1].max(), 0))
@@ -346,8 +347,3 @@ def patchmatch_planes(left: np.ndarray, right: np.ndarray, *, min_disparity: flo
                               low, high, *options)
     return planes[0], planes[1]
 
-
-def _colour(view: np.ndarray) -> np.ndarray:
-    # grey views as three equal channels, integer-valued floats for the weight table
-    view = np.rint(np.asarray(view, np.float64)).astype(np.float32)
-    return np.ascontiguousarray(np.repeat(view[:, :, None], 3, axis=2) if view.ndim == 2 else view)

@@ -7,6 +7,7 @@ import cv2
 import numpy as np
 from numba import njit, prange
 
+from mvtools.depth.cost import as_colour
 from mvtools.depth.segment import fill_from_planes
 
 __all__ = ["clean_up", "left_right_consistent", "fill_from_background", "median_smooth", "refine_subpixel",
@@ -263,10 +264,7 @@ def weighted_median(disparity: np.ndarray, guide: np.ndarray, *, radius: int = 4
     with np.errstate(invalid="ignore"):
         bin_index = np.where(np.isfinite(values), np.floor((values - lowest) / step), -1)
     bin_index = np.clip(bin_index, -1, bins - 1).astype(np.int32)
-    # grey guides as three equal channels, one kernel for both
-    colour = np.rint(np.asarray(guide)).astype(np.int32)
-    colour = np.ascontiguousarray(np.repeat(colour[:, :, None], 3, axis=2) if colour.ndim == 2
-                                  else colour)
+    colour = as_colour(guide)
     weight_table = np.exp(-np.arange(3 * max(int(colour.max()), 0) + 1) / sigma_colour)
     where = np.ones(values.shape, bool) if where is None else np.asarray(where, bool)
     return _weighted_median(values, bin_index, colour, where, int(radius), weight_table, bins)

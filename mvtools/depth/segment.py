@@ -10,6 +10,8 @@ import cv2
 import numpy as np
 from numba import njit, prange
 
+from mvtools.depth.cost import as_colour
+
 __all__ = ["segment_image", "fit_segment_planes", "plane_disparity", "fill_from_planes",
            "select_segment_planes", "trim_fattening"]
 
@@ -385,9 +387,7 @@ class _WindowCost:
         if radius < 0 or sigma_colour <= 0:
             raise ValueError(f"need radius >= 0 and sigma_colour > 0, got {radius} and "
                              f"{sigma_colour}")
-        colour = np.rint(np.asarray(guide)).astype(np.int32)
-        self.colour = np.ascontiguousarray(np.repeat(colour[:, :, None], 3, axis=2)
-                                           if colour.ndim == 2 else colour)
+        self.colour = as_colour(guide)
         self.table = np.exp(-np.arange(3 * max(int(self.colour.max()), 0) + 1) / sigma_colour)
         self.cost, self.min_disparity, self.radius = cost, float(min_disparity), int(radius)
         # beyond the searched range a disparity costs as much as the worst match
