@@ -145,8 +145,6 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
     Exits with 2 for a bad configuration, option or missing file, 1 for inconsistent
     data (different sizes, damaged videos), leaving no output file.
     """
-    # --method (the Method key of DERS mode) chooses the method of both modes.
-    method = options.pop("method")
     pair_options = {"--left": left, "--right": right, "--disparities": max_disparity,
                     "--min-disparity": min_disparity, "--png": png, "--png-scale": png_scale,
                     "--subpixel/--integer": subpixel,
@@ -157,11 +155,13 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
         if given:
             raise UsageError(f"{', '.join(given)}: stereo-pair options cannot go with a DERS "
                              "configuration")
-        _ders_mode(config, overrides, data_dirs, method=method, output=output,
+        _ders_mode(config, overrides, data_dirs, output=output,
                    further_neighbours=further_neighbours,
                    depth_bits=None if depth_bits is None else int(depth_bits),
                    transposed_rotation=transposed_rotation, options=options)
         return
+    # --method, the Method key of DERS mode, chooses the method of this mode too
+    method = options.pop("method") or PAIR_METHOD
     ders_given = [f"--{name.replace('_', '-')}" for name, value in options.items()
                   if value is not None]
     ders_given += ["--data-dir"] * bool(data_dirs) + ["--depth-bits"] * (depth_bits is not None)
@@ -171,7 +171,6 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
         raise UsageError(f"{', '.join(ders_given + list(overrides))}: DERS options need a "
                          "configuration file (CONFIG)")
     min_disparity = 0 if min_disparity is None else min_disparity
-    method = method or PAIR_METHOD
     png_scale = DEFAULT_PNG_SCALE if png_scale is None else png_scale
     for name, value in (("--left", left), ("--right", right), ("--disparities", max_disparity),
                         ("-o/--output", output)):
@@ -216,14 +215,12 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
 _DIRECTIONS = {1: ("left",), 2: ("right",), 3: ("left", "right")}
 
 
-def _ders_mode(config: str, overrides, data_dirs, *, method: str | None, output: str | None,
+def _ders_mode(config: str, overrides, data_dirs, *, output: str | None,
                further_neighbours: Sequence[tuple[str, str]], depth_bits: int | None,
                transposed_rotation: bool, options: dict) -> None:
     """Depth maps of the center view that a DERS configuration describes."""
     if output is not None:
         options = {**options, "file_output_depth_map_image": output}
-    if method is not None:
-        options = {**options, "method": method}
     loaded = load_config(DersParams, config, overrides=overrides, options=options,
                          data_dirs=data_dirs, transposed_rotation=transposed_rotation)
     params = loaded.params
