@@ -131,7 +131,6 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     levels = max_disparity - min_disparity + 1
     cost = ad_census_cost(left, right, min_disparity=min_disparity, levels=levels)
     volume = METHODS["sgm" if method == "patchmatch" else method](cost, _rgb(left))
-    grey_left, grey_right = (_rgb(view).mean(axis=2) for view in (left, right))
     disparity_left = winner_takes_all(volume) + min_disparity
     disparity_right = winner_takes_all(volume, right_view=True,
                                        min_disparity=min_disparity) + min_disparity
@@ -141,7 +140,8 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
                                    initial=(disparity_left, disparity_right))
         disparity_left, disparity_right = (plane_disparity(view) for view in planes)
     elif subpixel:
-        disparity_left = refine_subpixel(disparity_left, grey_left, grey_right)
+        disparity_left = refine_subpixel(disparity_left,
+                                         *(_rgb(view).mean(axis=2) for view in (left, right)))
     if not subpixel:
         disparity_left = np.rint(disparity_left)
     valid = left_right_consistent(disparity_left, disparity_right)
