@@ -228,9 +228,6 @@ def _ders_mode(config: str, overrides, data_dirs, *, output: str | None,
         raise param_entry(params, "method").error(
             f"method {params.method!r} is for stereo pairs; DERS mode methods: "
             f"{', '.join(METHODS)}")
-    if params.matching_method == 3:
-        LOG.warning("MatchingMethod 3 (soft-segment weights) is run as plane sweeping "
-                    "(MatchingMethod 2)")
     if params.file_camera_parameter == "":
         raise param_entry(params, "file_camera_parameter").error("no camera parameter file given")
     if "center_camera_name" not in loaded.cameras:

@@ -12,7 +12,9 @@ How DERS's keys are read:
 
 - MatchingMethod 0/1 (disparity shift), 2 (homography) and 4 (epipolar) are all the plane
   sweep: for rectified cameras its homographies are the shifts, in general they follow the
-  epipolar lines. 3 (soft-segment weights) is run as the plane sweep too.
+  epipolar lines. 3 (soft-segment) adds to the sweep DERS's soft-segment weighting: each
+  pixel's costs averaged over a SoftBlockWidth x SoftBlockHeight block with weights
+  ``exp(-distance / SoftDistanceCoeff - colour difference / SoftColorCoeff)``.
 - Precision, VerticalPrecision: sub-pixel grid of the neighbours' census signatures
   (the colour term is interpolated at the exact positions); Filter, VerticalFilter:
   bilinear (0) or bicubic (1, and 2 for the AVC filter) interpolation of that grid.
@@ -35,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mvtools.depth import METHODS
+from mvtools.depth.local import soft_segment_aggregate
 from mvtools.depth.planesweep import plane_sweep_cost
 from mvtools.depth.refine import fill_from_background, median_smooth, near_depth_edges, weighted_median
 from mvtools.depth.segment import segment_image, select_segment_planes, trim_fattening
@@ -196,17 +199,22 @@ class DersEstimator:
             self.inverse_depths, depth_type=params.depth_type,
             precision=(params.precision, params.vertical_precision),
             filter="linear" if params.filter == 0 else "cubic", block=params.matching_block)
+        cost = sweep.cost
+        if params.matching_method == 3:
+            cost = soft_segment_aggregate(
+                cost, center, block=(params.soft_block_width, params.soft_block_height),
+                distance_coeff=params.soft_distance_coeff, colour_coeff=params.soft_color_coeff)
         if params.smoothing_coefficient > 0:
-            volume = METHODS[self.method](sweep.cost * np.float32(
+            volume = METHODS[self.method](cost * np.float32(
                 _NEUTRAL_SMOOTHING / params.smoothing_coefficient), center)
         else:
-            volume = sweep.cost
+            volume = cost
         level = winner_takes_all(np.ascontiguousarray(volume, np.float32))
         levels = self.inverse_depths.size
         chosen = np.clip(np.rint(level).astype(np.intp), 0, levels - 1)
         seen = np.take_along_axis(sweep.seen, chosen[..., None], axis=2)[..., 0]
         if params.image_segmentation:
-            level = self._segment_planes(level, seen, sweep.cost, center)
+            level = self._segment_planes(level, seen, cost, center)
         level = self._clean(level, seen, center)
         inverse = np.interp(level, np.arange(levels), self.inverse_depths)
         with np.errstate(divide="ignore"):

@@ -7,8 +7,9 @@ from __future__ import annotations
 
 import cv2
 import numpy as np
+from numba import njit, prange
 
-__all__ = ["local_volume", "guided_filter"]
+__all__ = ["local_volume", "guided_filter", "soft_segment_aggregate"]
 
 # OpenCV filters images of at most 512 channels.
 _CHANNELS = 512
@@ -94,3 +95,64 @@ def local_volume(cost: np.ndarray, guide: np.ndarray, *, radius: int = 8,
     """
     return guided_filter(cost, np.asarray(guide, np.float32) / 255.0, radius=radius,
                          epsilon=epsilon)
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _soft_segment(cost, colour, up, down, left, right, distance_coeff, colour_coeff):
+    rows, cols, levels = cost.shape
+    result = np.empty_like(cost)
+    for y in prange(rows):
+        sums = np.empty(levels, np.float64)
+        for x in range(cols):
+            sums[:] = 0.0
+            total = 0.0
+            for qy in range(max(0, y - up), min(rows, y + down + 1)):
+                for qx in range(max(0, x - left), min(cols, x + right + 1)):
+                    difference = (abs(colour[qy, qx, 0] - colour[y, x, 0])
+                                  + abs(colour[qy, qx, 1] - colour[y, x, 1])
+                                  + abs(colour[qy, qx, 2] - colour[y, x, 2])) / 3.0
+                    distance = np.sqrt((qy - y) ** 2 + (qx - x) ** 2)
+                    weight = np.exp(-distance / distance_coeff - difference / colour_coeff)
+                    total += weight
+                    for k in range(levels):
+                        sums[k] += weight * cost[qy, qx, k]
+            for k in range(levels):
+                result[y, x, k] = sums[k] / total
+    return result
+
+
+def soft_segment_aggregate(cost: np.ndarray, guide: np.ndarray, *, block: tuple[int, int] = (3, 3),
+                           distance_coeff: float = 20.0, colour_coeff: float = 20.0) -> np.ndarray:
+    """DERS's soft-segment matching (MatchingMethod 3): each pixel's costs averaged over
+    a block with adaptive support weights ``exp(-distance / distance_coeff -
+    colour / colour_coeff)``, so that pixels of another colour, likely on another
+    surface, count less.
+
+    Parameters
+    ----------
+    cost : ndarray, shape (H, W, D)
+        Matching costs.
+    guide : ndarray, shape (H, W, 3)
+        The view the costs belong to; ``colour`` is its mean absolute channel
+        difference to the block's centre.
+    block : (int, int)
+        Block width and height (SoftBlockWidth, SoftBlockHeight), around the pixel;
+        even sizes reach one pixel further to the right and bottom.
+    distance_coeff, colour_coeff : float
+        SoftDistanceCoeff (pixels) and SoftColorCoeff (grey levels), positive.
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W, D)
+    """
+    width, height = block
+    if width < 1 or height < 1 or distance_coeff <= 0 or colour_coeff <= 0:
+        raise ValueError(f"need a block of at least 1x1 and positive coefficients, got "
+                         f"{block}, {distance_coeff}, {colour_coeff}")
+    cost = np.ascontiguousarray(cost, np.float32)
+    guide = np.ascontiguousarray(guide, np.float32)
+    if cost.ndim != 3 or guide.shape != cost.shape[:2] + (3,):
+        raise ValueError(f"cost must be (H, W, D) and guide (H, W, 3) of the same H, W, got "
+                         f"{cost.shape} and {guide.shape}")
+    return _soft_segment(cost, guide, (height - 1) // 2, height // 2, (width - 1) // 2, width // 2,
+                         float(distance_coeff), float(colour_coeff))
