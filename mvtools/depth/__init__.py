@@ -93,29 +93,32 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
     method, options             Tsukuba  Venus  Teddy  Cones  Art    Dolls  Moebius  s     im4
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
-    ``bp`` (the default)        1.73     0.54   5.59   2.45   6.85   3.75   7.35     0.73  30.31
+    ``bp`` (the default)        1.68     0.53   5.08   2.47   6.83   3.74   7.31     0.92  30.35
+    ``bp``, left view planes    1.73     0.54   5.59   2.45   6.85   3.75   7.35     0.73  30.31
     ``bp``, no segment planes   2.61     2.16   7.05   2.71   7.07   3.96   7.46     0.56  30.40
-    ``bp``, sub-pixel           6.53     0.35   5.93   2.98   7.37   5.04   7.82           30.22
-    ``bp``, segmentation        2.23     0.57   5.47   2.55   6.71   3.98   7.34           30.15
-    ``patchmatch``              2.37     0.30   5.30   2.18   5.98   4.04   7.73     7.0   30.62
+    ``bp``, sub-pixel           6.42     0.31   5.37   2.65   7.38   5.03   7.90
+    ``bp``, segmentation        2.13     0.44   5.19   2.49   6.62   3.95   7.30
+    ``patchmatch``              2.25     0.38   5.20   2.34   6.10   4.08   8.00     7.1   30.88
+    ``patchmatch``, left planes 2.37     0.30   5.30   2.18   5.98   4.04   7.73     7.0   30.62
     ``patchmatch``, no planes   2.23     0.87   5.46   2.34   6.28   3.85   8.40     6.8   30.70
-    ``sgm``                     2.27     0.50   5.31   2.73   6.36   4.37   8.38     0.30  30.14
+    ``sgm``                     2.30     0.35   5.14   2.72   6.37   4.41   7.67     0.59  30.13
     ``sgm``, no segment planes  2.68     1.88   6.55   2.85   7.11   4.75   8.28     0.13  30.15
-    ``sgm``, sub-pixel and seg. 4.49     0.32   5.46   3.02   7.32   5.70   8.22           30.07
-    ``graphcut``                2.06     0.64   8.08   2.51   6.87   3.77   6.40     5.5   30.11
-    ``local``                   2.83     0.84   6.51   3.04   8.22   5.12   8.44     1.4   29.98
+    ``sgm``, sub-pixel and seg. 4.49     0.22   5.37   2.93   7.16   5.77   8.15
+    ``graphcut``                2.08     0.68   7.57   2.49   6.92   3.80   6.32     6.0   30.21
+    ``local``                   2.88     0.34   6.24   3.03   8.14   5.15   8.00     1.3   30.05
     OpenCV StereoSGBM           5.66     3.06   15.3   7.22   16.5   10.8   10.8     0.04  28.49
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
 
     (s: seconds per Cones pair on two idle cores.) ``bp`` with integer levels and
     segment planes is the default: the only combination under the bars of all four
-    2001/2003 pairs (Tsukuba 2.0, Venus 1.0, Teddy 6.0, Cones 3.0) and, with a mean of
-    4.04, within 0.05 of the lowest (``patchmatch``, 3.99, ten times slower).
-    ``patchmatch`` gives the best synthesized view. The plane selection and fattening
-    trim (segmentation 0.11 s, the two plane steps 0.07 s per Cones pair) lower every
-    set with ``bp`` and all but Moebius with ``sgm`` (+0.1); Moebius keeps most of its
-    errors, on untextured facets and background where the planes are fitted to wrong
-    disparities. Their parameters were chosen on all seven sets together: a plane
+    2001/2003 pairs (Tsukuba 2.0, Venus 1.0, Teddy 6.0, Cones 3.0), and the lowest mean,
+    3.95 (``patchmatch`` 4.05, eight times slower, gives the best synthesized view). The
+    plane selection and fattening trim run on both views, the right one as the left
+    view of the mirrored pair, and the left-right check then compares the refined maps:
+    mean 3.95 against 4.04 with the left view alone (Teddy 5.08 against 5.59), for
+    0.2 s more per Cones pair; only ``patchmatch`` loses by it (4.05 against 3.99,
+    while its synthesized view gains 0.26 dB). Moebius keeps most of its errors, on
+    untextured facets and background where the planes are fitted to wrong disparities. Their parameters were chosen on all seven sets together: a plane
     margin of 7.5, 10 and 12.5 % gives a mean of 4.21, 4.15 and 4.20 without the trim;
     the trim reach of 1, 2 or 3 columns 4.06, 4.07, 4.08 without its cost test, 4.04
     with it. Sub-pixel values lower the mean absolute error (Venus 0.28 to 0.19 px over
@@ -142,20 +145,40 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     elif subpixel:
         disparity_left = refine_subpixel(disparity_left,
                                          *(_rgb(view).mean(axis=2) for view in (left, right)))
-    if not subpixel:
+    if segment_planes and not subpixel:
+        # integer levels in both views, as the segment planes refine both
+        disparity_left, disparity_right = np.rint(disparity_left), np.rint(disparity_right)
+    elif not subpixel:
         disparity_left = np.rint(disparity_left)
-    valid = left_right_consistent(disparity_left, disparity_right)
     segments = (segment_image(left, scale=120.0, min_size=20)
                 if segment_planes or segmentation else None)
     if segment_planes:
-        disparity_left, valid = select_segment_planes(disparity_left, valid, segments, cost,
-                                                      left, min_disparity=min_disparity)
-        disparity_left = trim_fattening(disparity_left, valid, segments, cost, left,
-                                        min_disparity=min_disparity)
-        if not subpixel:
-            disparity_left = np.rint(disparity_left)
-    return clean_up(disparity_left, disparity_right, left, valid=valid,
+        # Both views refined, then checked against each other: the right view's map is
+        # the left one of the mirrored, swapped pair.
+        mirrored = [np.ascontiguousarray(view[:, ::-1]) for view in (right, left)]
+        disparity_left, disparity_right = (
+            _on_segment_planes(disparity_left, disparity_right, left, segments, cost,
+                               min_disparity=min_disparity, subpixel=subpixel),
+            _on_segment_planes(
+                disparity_right[:, ::-1], disparity_left[:, ::-1], mirrored[0],
+                segment_image(mirrored[0], scale=120.0, min_size=20),
+                ad_census_cost(*mirrored, min_disparity=min_disparity, levels=levels),
+                min_disparity=min_disparity, subpixel=subpixel)[:, ::-1])
+    return clean_up(disparity_left, disparity_right, left,
                     segments=segments if segmentation else None)
+
+
+def _on_segment_planes(disparity, other, view, segments, cost, *, min_disparity, subpixel):
+    """A view's disparities after :func:`mvtools.depth.segment.select_segment_planes` and
+    :func:`mvtools.depth.segment.trim_fattening`, the reliable pixels being those that
+    the other view's disparities ``other`` confirm."""
+    disparity = np.ascontiguousarray(disparity, np.float32)
+    valid = left_right_consistent(disparity, np.ascontiguousarray(other, np.float32))
+    disparity, valid = select_segment_planes(disparity, valid, segments, cost, view,
+                                             min_disparity=min_disparity)
+    disparity = trim_fattening(disparity, valid, segments, cost, view,
+                               min_disparity=min_disparity)
+    return disparity if subpixel else np.rint(disparity)
 
 
 def _rgb(view: np.ndarray) -> np.ndarray:
