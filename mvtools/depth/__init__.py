@@ -22,7 +22,7 @@ from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.local import local_volume
 from mvtools.depth.patchmatch import patchmatch_planes, plane_disparity
 from mvtools.depth.refine import clean_up, left_right_consistent, refine_subpixel
-from mvtools.depth.segment import segment_image, select_segment_planes, trim_fattening
+from mvtools.depth.segment import plane_segments, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import sgm_volume, winner_takes_all
 
 __all__ = ["estimate_disparity", "METHODS", "PAIR_METHODS"]
@@ -150,8 +150,7 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
         disparity_left, disparity_right = np.rint(disparity_left), np.rint(disparity_right)
     elif not subpixel:
         disparity_left = np.rint(disparity_left)
-    segments = (segment_image(left, scale=120.0, min_size=20)
-                if segment_planes or segmentation else None)
+    segments = plane_segments(left) if segment_planes or segmentation else None
     if segment_planes:
         # Both views refined, then checked against each other: the right view's map is
         # the left one of the mirrored, swapped pair.
@@ -161,7 +160,7 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
                                min_disparity=min_disparity, subpixel=subpixel),
             _on_segment_planes(
                 disparity_right[:, ::-1], disparity_left[:, ::-1], mirrored[0],
-                segment_image(mirrored[0], scale=120.0, min_size=20),
+                plane_segments(mirrored[0]),
                 ad_census_cost(*mirrored, min_disparity=min_disparity, levels=levels),
                 min_disparity=min_disparity, subpixel=subpixel)[:, ::-1])
     return clean_up(disparity_left, disparity_right, left,

@@ -40,7 +40,7 @@ from mvtools.depth import METHODS
 from mvtools.depth.local import soft_segment_aggregate
 from mvtools.depth.planesweep import plane_sweep_cost
 from mvtools.depth.refine import fill_from_background, median_smooth, near_depth_edges, weighted_median
-from mvtools.depth.segment import segment_image, select_segment_planes, trim_fattening
+from mvtools.depth.segment import plane_segments, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import winner_takes_all
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import ders_depth_range
@@ -229,7 +229,7 @@ class DersEstimator:
         levels (planes in 1/z, hence in disparity for parallel cameras) costs about as much
         as their levels take it, and fattened foreground next to depth steps falls back
         onto its segment's plane, as in the stereo-pair mode."""
-        segments = segment_image(center, scale=120.0, min_size=20)
+        segments = plane_segments(center)
         level, valid = select_segment_planes(level, seen, segments, cost, center)
         return trim_fattening(level, valid, segments, cost, center)
 

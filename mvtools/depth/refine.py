@@ -16,8 +16,7 @@ __all__ = ["clean_up", "left_right_consistent", "fill_from_background", "median_
 
 def clean_up(disparity_left: np.ndarray, disparity_right: np.ndarray, left: np.ndarray, *,
              median_radius: int = 5, median_sigma: float = 20.0,
-             median_size: int = 3, segments: np.ndarray | None = None,
-             valid: np.ndarray | None = None) -> np.ndarray:
+             median_size: int = 3, segments: np.ndarray | None = None) -> np.ndarray:
     """Left-right check, background fill of the rejected pixels, then a colour-weighted
     median on them and around depth edges, where matchers err, and a plain median.
     With ``segments``, rejected pixels of segments that a disparity plane explains
@@ -37,9 +36,6 @@ def clean_up(disparity_left: np.ndarray, disparity_right: np.ndarray, left: np.n
         Final plain median, 3 or 5.
     segments : ndarray of int, shape (H, W), optional
         Over-segmentation of the left view (:func:`mvtools.depth.segment.segment_image`).
-    valid : ndarray of bool, shape (H, W), optional
-        The reliable pixels of ``disparity_left`` in place of the left-right check, e.g.
-        its result extended by :func:`mvtools.depth.segment.select_segment_planes`.
 
     Returns
     -------
@@ -52,12 +48,7 @@ def clean_up(disparity_left: np.ndarray, disparity_right: np.ndarray, left: np.n
     6 instead of 5 gives bad 1.0 of 4.24, 1.64, 6.78, 2.84 % instead of 4.41, 1.82, 6.67,
     2.83 % (Tsukuba, Venus, Teddy, Cones) for about 15 % more time.
     """
-    if valid is None:
-        valid = left_right_consistent(disparity_left, disparity_right)
-    elif np.shape(valid) != np.shape(disparity_left):
-        raise ValueError(f"valid mask of shape {np.shape(valid)} does not fit the "
-                         f"{np.shape(disparity_left)} disparity map")
-    valid = np.asarray(valid, bool)
+    valid = left_right_consistent(disparity_left, disparity_right)
     if segments is not None:
         disparity_left, valid = fill_from_planes(disparity_left, valid, segments)
     filled = fill_from_background(disparity_left, valid)

@@ -12,7 +12,7 @@ from numba import njit, prange
 
 from mvtools.depth.cost import as_colour
 
-__all__ = ["segment_image", "fit_segment_planes", "plane_disparity", "fill_from_planes",
+__all__ = ["segment_image", "plane_segments", "fit_segment_planes", "plane_disparity", "fill_from_planes",
            "select_segment_planes", "trim_fattening"]
 
 
@@ -106,6 +106,13 @@ def segment_image(image: np.ndarray, *, scale: float = 300.0, min_size: int = 40
     order = np.argsort(weight, kind="stable")
     return _felzenszwalb(first, second, weight, order, rows * cols, float(scale),
                          int(min_size)).reshape(rows, cols)
+
+
+def plane_segments(view: np.ndarray) -> np.ndarray:
+    """The over-segmentation the plane steps fit planes to: :func:`segment_image` with
+    scale 120 and segments of at least 20 pixels, fine enough that a segment rarely
+    straddles a depth edge."""
+    return segment_image(view, scale=120.0, min_size=20)
 
 
 @njit(cache=True, nogil=True)
