@@ -16,8 +16,9 @@ from mvtools.errors import ConfigError, DataError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import get_camera, read_cameras
 from mvtools.io.json_cameras import read_json_cameras
-from mvtools.io.config import (load_params, override_entries, param_entry, parse_overrides,
-                               read_config, resolve_input_path, resolve_output_path)
+from mvtools.io.config import (COMMAND_LINE, ConfigEntry, load_params, override_entries,
+                               param_entry, parse_overrides, read_config, resolve_input_path,
+                               resolve_output_path)
 from mvtools.io.yuv import VideoReader, YuvFormat, format_from_name, open_video
 from mvtools.params import Kind, param_specs
 
@@ -58,6 +59,17 @@ class LoadedConfig:
 
     def open_video(self, name: str) -> VideoReader:
         return open_video(self.inputs[name], self.video_format(name))
+
+    def command_line_camera(self, name: str, label: str) -> Camera:
+        """A camera of the camera file named on the command line by the option ``label``."""
+        return get_camera(self.all_cameras, name,
+                          path=self.inputs.get(self.params.camera_file_field), key=label)
+
+
+def command_line_input(label: str, value: str, data_dirs: Iterable[str | os.PathLike]) -> Path:
+    """An input file named on the command line by the option ``label``, found as the
+    configuration's inputs are (:func:`mvtools.io.config.resolve_input_path`)."""
+    return resolve_input_path(ConfigEntry(label, value, COMMAND_LINE, None), data_dirs=data_dirs)
 
 
 def video_format_for(path: Path, size: tuple[int, int], *, key: str | None = None) -> YuvFormat:

@@ -8,8 +8,8 @@ import click
 import numpy as np
 
 from mvtools.cli.inputs import frame_range, open_input_video
-from mvtools.cli.options import (ProgramCommand, frame_range_options, program, transposed_rotation_option,
-                                  video_format_options)
+from mvtools.cli.options import (ProgramCommand, frame_range_options, program,
+                                  transposed_rotation_option, video_format_options)
 from mvtools.cli.progress import Progress
 from mvtools.color.levels import convert_planes, depth_preview, requantize
 from mvtools.color.space import rgb_to_yuv, yuv_to_rgb

@@ -29,17 +29,16 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.configs import LoadedConfig, load_config, video_format_for
+from mvtools.cli.configs import LoadedConfig, command_line_input, load_config, video_format_for
 from mvtools.cli.inputs import frame_range
-from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument, param_options, program,
-                                  transposed_rotation_option)
+from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument,
+                                  param_options, program, transposed_rotation_option)
 from mvtools.cli.progress import Progress
 from mvtools.depth import METHODS, estimate_disparity
 from mvtools.depth.ders import DersEstimator, Neighbour
 from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.io.atomic import atomic_output
-from mvtools.io.cameras import get_camera
-from mvtools.io.config import COMMAND_LINE, ConfigEntry, param_entry, resolve_input_path
+from mvtools.io.config import param_entry
 from mvtools.io.images import read_image, write_image
 from mvtools.io.yuv import YuvFormat, format_from_name, frame_from_luma, open_video, open_writer
 from mvtools.params import DersParams
@@ -243,10 +242,8 @@ def _ders_mode(config: str, overrides, data_dirs, *, output: str | None,
     neighbours = [Neighbour(loaded.cameras[f"{side}_camera_name"], side) for side in sides]
     for name, video in further_neighbours:
         label = f"--neighbour {name}"
-        camera = get_camera(loaded.all_cameras, name, path=loaded.inputs["file_camera_parameter"],
-                            key=label)
-        path = resolve_input_path(ConfigEntry(label, video, COMMAND_LINE, None),
-                                  data_dirs=data_dirs)
+        camera = loaded.command_line_camera(name, label)
+        path = command_line_input(label, video, data_dirs)
         videos.append((path, video_format_for(path, size, key=label)))
         neighbours.append(Neighbour(camera))
     if "file_output_depth_map_image" not in loaded.outputs:

@@ -10,7 +10,8 @@ import numpy as np
 
 from mvtools.cli.configs import LoadedConfig, load_config
 from mvtools.cli.inputs import open_input_video
-from mvtools.cli.options import ProgramCommand, data_dir_option, program, transposed_rotation_option, video_format_options
+from mvtools.cli.options import (ProgramCommand, data_dir_option, program,
+                                  transposed_rotation_option, video_format_options)
 from mvtools.errors import UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import read_cameras, read_htm_cameras

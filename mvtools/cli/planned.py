@@ -31,7 +31,8 @@ PLANNED = {
 def planned_command(name: str) -> click.Command:
     purpose, issue = PLANNED[name]
 
-    @click.command(name=name, cls=ProgramCommand, help=f"{purpose}\n\nNot implemented yet (issue #{issue}).",
+    @click.command(name=name, cls=ProgramCommand,
+                   help=f"{purpose}\n\nNot implemented yet (issue #{issue}).",
                    context_settings={"ignore_unknown_options": True})
     @click.argument("arguments", nargs=-1, type=click.UNPROCESSED)
     @program

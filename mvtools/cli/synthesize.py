@@ -18,15 +18,14 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.configs import LoadedConfig, load_config, video_format_for
+from mvtools.cli.configs import LoadedConfig, command_line_input, load_config, video_format_for
 from mvtools.cli.inputs import frame_range
-from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument, param_options, program,
-                                  transposed_rotation_option)
+from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument,
+                                  param_options, program, transposed_rotation_option)
 from mvtools.cli.progress import Progress
 from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.geometry.camera import Camera
-from mvtools.io.cameras import get_camera
-from mvtools.io.config import COMMAND_LINE, ConfigEntry, param_entry, resolve_input_path, resolve_output_path
+from mvtools.io.config import COMMAND_LINE, ConfigEntry, param_entry, resolve_output_path
 from mvtools.io.yuv import VideoReader, YuvFormat, frame_from_luma, open_video, open_writer
 from mvtools.params import VsrsParams
 from mvtools.synthesis import ReferenceView, SynthesisOptions
@@ -266,11 +265,9 @@ def _config_references(loaded: LoadedConfig) -> list[_Reference]:
 def _extra_reference(loaded: LoadedConfig, view: tuple, data_dirs) -> _Reference:
     name, texture, depth, znear, zfar = view
     label = f"--view {name}"
-    camera = get_camera(loaded.all_cameras, name, path=loaded.inputs.get("camera_parameter_file"),
-                        key=label)
+    camera = loaded.command_line_camera(name, label)
     _depth_coding((znear, zfar), 8, label, depth_type=loaded.params.depth_type)
-    paths = [resolve_input_path(ConfigEntry(label, value, COMMAND_LINE, None), data_dirs=data_dirs)
-             for value in (texture, depth)]
+    paths = [command_line_input(label, value, data_dirs) for value in (texture, depth)]
     return _Reference(camera, *paths, (znear, zfar), label, label)
 
 

@@ -118,10 +118,11 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     mean 3.95 against 4.04 with the left view alone (Teddy 5.08 against 5.59), for
     0.2 s more per Cones pair; only ``patchmatch`` loses by it (4.05 against 3.99,
     while its synthesized view gains 0.26 dB). Moebius keeps most of its errors, on
-    untextured facets and background where the planes are fitted to wrong disparities. Their parameters were chosen on all seven sets together: a plane
-    margin of 7.5, 10 and 12.5 % gives a mean of 4.21, 4.15 and 4.20 without the trim;
-    the trim reach of 1, 2 or 3 columns 4.06, 4.07, 4.08 without its cost test, 4.04
-    with it. Sub-pixel values lower the mean absolute error (Venus 0.28 to 0.19 px over
+    untextured facets and background where the planes are fitted to wrong
+    disparities. Their parameters were chosen on all seven sets together (left view
+    only): a plane margin of 7.5, 10 and 12.5 % gives a mean of 4.21, 4.15 and 4.20
+    without the trim; the trim reach of 1, 2 or 3 columns 4.06, 4.07, 4.08 without its
+    cost test, 4.04 with it. Sub-pixel values lower the mean absolute error (Venus 0.28 to 0.19 px over
     the pixels within 1 px, without the planes) but push pixels whose integer level is
     one off beyond 1 px; the synthesized view hardly changes, as the 8-bit depth maps
     hold quarter pixels.
