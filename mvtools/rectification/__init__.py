@@ -1,0 +1,15 @@
+"""Lens distortion removal and rectification of camera arrays.
+
+- :mod:`~mvtools.rectification.array`: the rectified (or undistorted) cameras and the
+  maps from their pixels to the original ones, :func:`rectify_cameras`,
+  :func:`undistortion`;
+- :mod:`~mvtools.rectification.maps`: resampling planes, chroma planes and depth maps
+  through those maps.
+"""
+
+from mvtools.rectification.array import (EDGE_TOLERANCE, Rectification, rectify_cameras,
+                                         undistortion)
+from mvtools.rectification.maps import CHROMA_SITING, chroma_maps, rectified_depth, remap_plane
+
+__all__ = ["Rectification", "rectify_cameras", "undistortion", "remap_plane", "chroma_maps",
+           "rectified_depth", "EDGE_TOLERANCE", "CHROMA_SITING"]
