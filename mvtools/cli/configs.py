@@ -14,8 +14,8 @@ from typing import Any, Iterable, Mapping
 
 from mvtools.errors import ConfigError, DataError
 from mvtools.geometry.camera import Camera
-from mvtools.io.cameras import get_camera, read_cameras
-from mvtools.io.json_cameras import read_json_cameras
+from mvtools.io.cameras import get_camera
+from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.config import (COMMAND_LINE, ConfigEntry, load_params, override_entries,
                                param_entry, parse_overrides, read_config, resolve_input_path,
                                resolve_output_path)
@@ -124,10 +124,7 @@ def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Itera
             loaded.outputs[spec.name] = resolve_output_path(param_entry(params, spec.name))
     camera_file = loaded.inputs.get(cls.camera_file_field)
     if camera_file is not None:
-        if camera_file.suffix.lower() == ".json":
-            cameras = read_json_cameras(camera_file)
-        else:
-            cameras = read_cameras(camera_file, transposed_rotation=transposed_rotation)
+        cameras = read_camera_file(camera_file, transposed_rotation=transposed_rotation)
         loaded.all_cameras = cameras
         for spec in param_specs(cls):
             name = getattr(params, spec.name)

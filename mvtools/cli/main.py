@@ -5,7 +5,8 @@ from __future__ import annotations
 import click
 
 from mvtools import __version__
-from mvtools.cli import convert, estimate_depth, evaluate, inspect, scene, synthesize
+from mvtools.cli import (calibrate, convert, estimate_depth, evaluate, inspect, rectify, scene,
+                         synthesize)
 from mvtools.cli.planned import PLANNED, planned_command
 
 PROGRAMS: dict[str, click.Command] = {
@@ -16,6 +17,8 @@ PROGRAMS: dict[str, click.Command] = {
     "scene": scene.command,
     "synthesize": synthesize.command,
     "estimate-depth": estimate_depth.command,
+    "calibrate": calibrate.command,
+    "rectify": rectify.command,
 }
 
 

@@ -100,7 +100,7 @@ data_dir_option = click.option(
 overrides_argument = click.argument("overrides", nargs=-1, metavar="[Key=Value]...")
 
 
-def _parse_size(ctx, param, value):
+def parse_size(ctx, param, value):
     if value is None:
         return None
     try:
@@ -119,7 +119,7 @@ def video_format_options(function):
         help="Pixel format of raw YUV inputs, ffmpeg names: yuv420p (default when only the "
              "size is given and the file size agrees), yuv420p10le, yuv444p, gray, gray16le...")(function)
     return click.option(
-        "--size", callback=_parse_size, default=None, metavar="WxH",
+        "--size", callback=parse_size, default=None, metavar="WxH",
         help="Picture size of raw YUV inputs whose name does not carry it (name_1024x768_yuv420p.yuv).")(function)
 
 

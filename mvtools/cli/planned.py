@@ -13,12 +13,6 @@ from mvtools.cli.options import ProgramCommand, program
 from mvtools.errors import UsageError
 
 PLANNED = {
-    "calibrate": (
-        "Calibrate a camera array from checkerboard captures: intrinsics, lens distortion "
-        "and joint extrinsics, written as an MPEG camera parameter file.", 5),
-    "rectify": (
-        "Remove lens distortion and rectify a camera array (pair or linear array), writing "
-        "the rectified YUVs and the new camera parameter file.", 5),
     "colorcorrect": (
         "Make the colours of the views agree: per-channel look-up tables to a reference view, "
         "to the average of the views or to a colour chart.", 6),

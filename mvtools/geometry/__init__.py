@@ -1,6 +1,6 @@
 """Camera geometry: projection, back-projection, depth conversions, homographies."""
 
-from mvtools.geometry.camera import Camera
+from mvtools.geometry.camera import Camera, turn_world
 from mvtools.geometry.depth import (
     depth_to_z, depth_value_to_disparity, ders_depth_range, disparity_1d,
     disparity_to_depth_value, disparity_to_z, max_depth_value, normalized_disparity,
@@ -11,7 +11,7 @@ from mvtools.geometry.projection import (
 from mvtools.geometry.warp import forward_warp
 
 __all__ = [
-    "Camera", "project", "backproject", "reproject", "depth_along_axis", "pixel_grid",
+    "Camera", "turn_world", "project", "backproject", "reproject", "depth_along_axis", "pixel_grid",
     "depth_to_z", "z_to_depth", "disparity_to_z", "z_to_disparity", "normalized_disparity",
     "disparity_to_depth_value", "depth_value_to_disparity", "ders_depth_range",
     "disparity_1d", "max_depth_value", "plane_homography", "forward_warp",

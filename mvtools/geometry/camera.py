@@ -7,7 +7,7 @@ looks along its +z axis, x to the right and y down in the image.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -88,3 +88,37 @@ class Camera:
     def __repr__(self) -> str:
         return (f"Camera(name={self.name!r}, fx={self.fx:g}, fy={self.fy:g}, cx={self.cx:g}, "
                 f"cy={self.cy:g}, t={self.t.tolist()}, size={self.size})")
+
+
+def turn_world(cameras, rotation: np.ndarray) -> list[Camera]:
+    """The same cameras described in a world frame turned by ``rotation``.
+
+    New world coordinates are ``X' = rotation @ X``; each camera sees exactly what it saw
+    (``R' = R rotation^T``, ``t' = rotation t``), and depth along each camera's axis is
+    unchanged. Rectified arrays take their common orientation as the world's, so that
+    their rotations are the identity and the baseline lies along x, as the 1D modes of
+    the reference programs read it.
+
+    Parameters
+    ----------
+    cameras : iterable of Camera
+    rotation : ndarray, shape (3, 3)
+        A rotation (orthonormal, determinant 1).
+
+    Returns
+    -------
+    list of Camera
+    """
+    rotation = np.asarray(rotation, dtype=np.float64)
+    if (rotation.shape != (3, 3) or not np.allclose(rotation @ rotation.T, np.eye(3), atol=1e-9)
+            or np.linalg.det(rotation) < 0):
+        raise ValueError(f"rotation must be a 3x3 rotation matrix, got {rotation.tolist()}")
+    turned = []
+    for camera in cameras:
+        R = camera.R @ rotation.T
+        # A camera whose orientation the world takes gets the exact identity that files
+        # of rectified arrays show, not one with rounding noise.
+        if np.allclose(R, np.eye(3), rtol=0.0, atol=1e-12):
+            R = np.eye(3)
+        turned.append(replace(camera, R=R, t=rotation @ camera.t))
+    return turned

@@ -28,10 +28,10 @@ import numpy as np
 from mvtools.errors import ConfigError, UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.atomic import atomic_output
-from mvtools.io.cameras import store_camera
+from mvtools.io.cameras import read_cameras, store_camera
 from mvtools.io.files import read_text
 
-__all__ = ["read_json_cameras", "write_json_cameras", "OMAF_TO_CAMERA",
+__all__ = ["read_json_cameras", "write_json_cameras", "read_camera_file", "OMAF_TO_CAMERA",
            "rotation_from_euler", "euler_from_rotation"]
 
 OMAF_TO_CAMERA = np.array([[0.0, -1.0, 0.0], [0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
@@ -218,3 +218,15 @@ def _format_document(entries: list[dict]) -> str:
                              for key, value in entry.items())
         cameras.append(f"        {{\n{fields}\n        }}")
     return '{\n    "cameras": [\n' + ",\n".join(cameras) + "\n    ]\n}\n"
+
+
+def read_camera_file(path: str | os.PathLike, *, transposed_rotation: bool = False
+                     ) -> dict[str, Camera]:
+    """Cameras of an MPEG-I JSON file (``.json``) or else an MPEG camera parameter file.
+
+    ``transposed_rotation`` applies to the MPEG text format, see
+    :func:`mvtools.io.cameras.read_cameras`.
+    """
+    if Path(path).suffix.lower() == ".json":
+        return read_json_cameras(path)
+    return read_cameras(path, transposed_rotation=transposed_rotation)
