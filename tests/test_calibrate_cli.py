@@ -198,3 +198,19 @@ def test_captures_from_grey_videos(tmp_path):
     true_baseline = np.linalg.norm(np.subtract(truth["cam2"]["t"], truth["cam1"]["t"]))
     assert np.linalg.norm(cameras["cam2"].t - cameras["cam1"].t) == pytest.approx(
         true_baseline, rel=0.005)
+
+
+def test_a_camera_never_seeing_the_board_with_the_others_is_named(tmp_path):
+    blank = np.full((480, 640), 128, np.uint8)
+    seen_by_first = [0, 2, 3]
+    seen_by_second = [4, 6, 7]
+    write_captures(tmp_path / "camA", [sample_capture("cam2", index) if index in seen_by_first
+                                       else blank for index in range(8)])
+    write_captures(tmp_path / "camB", [sample_capture("cam3", index) if index in seen_by_second
+                                       else blank for index in range(8)])
+    code, _, stderr = invoke(calibrate.command, tmp_path / "camA", tmp_path / "camB",
+                             "--board", "9x6", "--square", "0.05", "-o", tmp_path / "out.txt")
+    assert code == 1
+    assert_one_line_error(stderr, "camB", "never sees the board together with camA",
+                          "capture04.png")
+    assert not (tmp_path / "out.txt").exists()

@@ -7,9 +7,10 @@ from shared_data import shared_data
 from mvtools.geometry import (
     Camera, backproject, depth_along_axis, depth_to_z, depth_value_to_disparity,
     ders_depth_range, disparity_1d, disparity_to_depth_value, disparity_to_z, forward_warp,
-    normalized_disparity, pixel_grid, plane_homography, project, reproject, z_to_depth,
-    z_to_disparity)
+    normalized_disparity, pixel_grid, plane_homography, project, reproject, turn_world,
+    z_to_depth, z_to_disparity)
 from mvtools.io.cameras import read_cameras
+from mvtools.scene.rigs import axis_angle_rotation
 
 CAMERAS = ("mpeg", "vsrs_camera_parameters")
 
@@ -343,3 +344,19 @@ def test_forward_warp_drops_points_behind_the_target_and_validates():
         forward_warp(values, np.ones((5, 4)), src, behind)
     with pytest.raises(ValueError, match="positive"):
         forward_warp(values, -plane, src, behind)
+
+
+def test_turning_the_world_changes_no_picture():
+    rotation = axis_angle_rotation((0.3, -1.0, 0.2), 17.0)
+    camera = Camera("c", K=[[500.0, 0, 320], [0, 505.0, 240], [0, 0, 1]],
+                    R=axis_angle_rotation((1.0, 0.5, 0.0), 8.0), t=[0.4, -0.1, 2.0])
+    points = np.random.default_rng(1).uniform(-2, 2, (20, 3)) + [0.0, 0.0, 8.0]
+    (turned,) = turn_world([camera], rotation)
+    uv, z = project(camera, points)
+    uv_turned, z_turned = project(turned, points @ rotation.T)
+    np.testing.assert_allclose(uv_turned, uv, atol=1e-9)
+    np.testing.assert_allclose(z_turned, z, atol=1e-12)
+    # the world taking the camera's own orientation gives it exactly the identity
+    np.testing.assert_array_equal(turn_world([camera], camera.R)[0].R, np.eye(3))
+    with pytest.raises(ValueError, match="rotation"):
+        turn_world([camera], np.diag([1.0, 1.0, -1.0]))

@@ -19,7 +19,7 @@ from mvtools.geometry.depth import depth_to_z, z_to_depth
 from mvtools.io.cameras import get_camera, write_cameras
 from mvtools.io.json_cameras import read_camera_file, write_json_cameras
 from mvtools.io.yuv import open_writer
-from mvtools.rectification import (Rectification, chroma_maps, rectified_depth, rectify_cameras,
+from mvtools.rectification import (DepthResampler, Rectification, chroma_maps, rectify_cameras,
                                    remap_plane, undistortion)
 
 LOG = logging.getLogger("mvtools")
@@ -210,14 +210,14 @@ def _rectify_video(path: Path, out: Path, kind: str, result: Rectification, inde
         chroma = chroma_maps(map_x, map_y, subsampling=factors) if factors else None
         if kind == "depth":
             znear, zfar = depth_range
+            resample = DepthResampler(source_camera, result.cameras[index], map_x, map_y)
         progress = Progress(len(frames), f"{path.name} frames rectified")
         with open_writer(target, fmt) as writer:
             for frame in frames:
                 planes = video.read(frame)
                 if kind == "depth":
                     z = depth_to_z(planes[0], znear, zfar, bits=fmt.bits)
-                    z = rectified_depth(z, source_camera, result.cameras[index], map_x, map_y)
-                    luma = z_to_depth(z, znear, zfar, bits=fmt.bits)
+                    luma = z_to_depth(resample(z), znear, zfar, bits=fmt.bits)
                     # Outside the source there is no depth: the farthest value.
                     rest = [np.full_like(plane, mid) for plane in planes[1:]]
                 else:

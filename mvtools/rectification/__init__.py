@@ -9,7 +9,8 @@
 
 from mvtools.rectification.array import (EDGE_TOLERANCE, Rectification, rectify_cameras,
                                          undistortion)
-from mvtools.rectification.maps import CHROMA_SITING, chroma_maps, rectified_depth, remap_plane
+from mvtools.rectification.maps import (CHROMA_SITING, DepthResampler, chroma_maps,
+                                        rectified_depth, remap_plane)
 
 __all__ = ["Rectification", "rectify_cameras", "undistortion", "remap_plane", "chroma_maps",
-           "rectified_depth", "EDGE_TOLERANCE", "CHROMA_SITING"]
+           "rectified_depth", "DepthResampler", "EDGE_TOLERANCE", "CHROMA_SITING"]

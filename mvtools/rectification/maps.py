@@ -95,7 +95,8 @@ def remap_plane(plane, map_x, map_y, *, nearest: bool = False, fill=0) -> np.nda
     if nearest:
         column, row, inside = _nearest_pixels(map_x, map_y, plane.shape[1], plane.shape[0])
         return np.where(inside, plane[row, column], np.asarray(fill, dtype=plane.dtype))
-    return cv2.remap(plane, map_x.astype(np.float32), map_y.astype(np.float32),
+    return cv2.remap(plane, map_x.astype(np.float32, copy=False),
+                     map_y.astype(np.float32, copy=False),
                      interpolation=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                      borderValue=float(fill))
 
@@ -157,22 +158,20 @@ def chroma_maps(map_x, map_y, *, subsampling: tuple[int, int]
     return out[0], out[1]
 
 
-def rectified_depth(depth_z, source: Camera, rectified: Camera, map_x, map_y, *,
-                    fill: float = np.inf) -> np.ndarray:
-    """A depth map of ``source`` resampled into ``rectified``, as depth along the new axis.
+class DepthResampler:
+    """Depth maps of ``source`` resampled into ``rectified``, as depth along the new axis.
 
     Each output pixel takes the depth of the source pixel nearest to its map position
     (no interpolation across depth edges). That pixel's point
     ``X = t + z R_src^T K_src^-1 [x_u, y_u, 1]`` (``x_u, y_u`` its undistorted
     normalised coordinates) gets the depth ``z' = (R_rect (X - t))_z`` along the
-    rectified camera's axis: ``z`` changes when the camera turns.
+    rectified camera's axis: ``z`` changes when the camera turns. The sampled pixels
+    and their factors ``z' / z`` are found once, for every frame of a video.
 
     Parameters
     ----------
-    depth_z : ndarray, shape (H, W), float
-        Depth along ``source``'s axis (metres, DepthType 0), ``inf`` allowed.
     source : Camera
-        The camera the depth map belongs to (lens distortion included).
+        The camera the depth maps belong to (lens distortion included).
     rectified : Camera
         The output camera; must share ``source``'s centre.
     map_x, map_y : ndarray, shape (H_out, W_out)
@@ -181,26 +180,51 @@ def rectified_depth(depth_z, source: Camera, rectified: Camera, map_x, map_y, *,
         Depth of output pixels that sample outside the source image; ``inf`` (no
         surface) becomes the farthest value under
         :func:`mvtools.geometry.depth.z_to_depth`.
-
-    Returns
-    -------
-    ndarray of float64, shape (H_out, W_out)
     """
-    depth_z = _check_plane(depth_z, "depth_z")
-    if not np.issubdtype(depth_z.dtype, np.floating):
-        raise ValueError(f"depth_z must hold float depths z, got {depth_z.dtype} (convert "
-                         "depth map values with mvtools.geometry.depth.depth_to_z)")
-    if source.size is not None and depth_z.shape != (source.size[1], source.size[0]):
-        raise ValueError(f"depth_z has shape {depth_z.shape}, camera {source.name!r} makes "
-                         f"{source.size[0]}x{source.size[1]} pictures")
-    if not np.allclose(source.t, rectified.t, rtol=0.0,
-                       atol=1e-12 * max(1.0, float(np.abs(source.t).max()))):
-        raise ValueError(f"camera {rectified.name!r} does not share the centre of "
-                         f"{source.name!r}: {rectified.t.tolist()} != {source.t.tolist()}")
-    column, row, inside = _nearest_pixels(map_x, map_y, depth_z.shape[1], depth_z.shape[0])
-    # Each source pixel's ray, with unit depth along the source axis, measured along
-    # the rectified axis: the factor that turns z into z'.
-    rays = pixel_rays(source, column[inside].astype(np.float64), row[inside].astype(np.float64))
-    out = np.full(column.shape, fill, dtype=np.float64)
-    out[inside] = depth_z[row[inside], column[inside]] * (rays @ rectified.R[2])
-    return out
+
+    def __init__(self, source: Camera, rectified: Camera, map_x, map_y, *,
+                 fill: float = np.inf):
+        if source.size is None:
+            raise ValueError(f"camera {source.name!r} needs its size")
+        if not np.allclose(source.t, rectified.t, rtol=0.0,
+                           atol=1e-12 * max(1.0, float(np.abs(source.t).max()))):
+            raise ValueError(f"camera {rectified.name!r} does not share the centre of "
+                             f"{source.name!r}: {rectified.t.tolist()} != {source.t.tolist()}")
+        self.source, self.fill = source, float(fill)
+        column, row, self.inside = _nearest_pixels(map_x, map_y, *source.size)
+        self.column, self.row = column[self.inside], row[self.inside]
+        # Each source pixel's ray, with unit depth along the source axis, measured along
+        # the rectified axis: the factor that turns z into z'.
+        rays = pixel_rays(source, self.column.astype(np.float64), self.row.astype(np.float64))
+        self.factor = rays @ rectified.R[2]
+
+    def __call__(self, depth_z) -> np.ndarray:
+        """One depth map.
+
+        Parameters
+        ----------
+        depth_z : ndarray, shape (H, W), float
+            Depth along ``source``'s axis (metres, DepthType 0), ``inf`` allowed.
+
+        Returns
+        -------
+        ndarray of float64, shape (H_out, W_out)
+        """
+        depth_z = _check_plane(depth_z, "depth_z")
+        if not np.issubdtype(depth_z.dtype, np.floating):
+            raise ValueError(f"depth_z must hold float depths z, got {depth_z.dtype} (convert "
+                             "depth map values with mvtools.geometry.depth.depth_to_z)")
+        width, height = self.source.size
+        if depth_z.shape != (height, width):
+            raise ValueError(f"depth_z has shape {depth_z.shape}, camera {self.source.name!r} "
+                             f"makes {width}x{height} pictures")
+        out = np.full(self.inside.shape, self.fill, dtype=np.float64)
+        out[self.inside] = depth_z[self.row, self.column] * self.factor
+        return out
+
+
+def rectified_depth(depth_z, source: Camera, rectified: Camera, map_x, map_y, *,
+                    fill: float = np.inf) -> np.ndarray:
+    """One depth map through a :class:`DepthResampler` (which see); videos keep the
+    resampler for all their frames."""
+    return DepthResampler(source, rectified, map_x, map_y, fill=fill)(depth_z)
