@@ -5,8 +5,8 @@ from __future__ import annotations
 import click
 
 from mvtools import __version__
-from mvtools.cli import (calibrate, convert, estimate_depth, evaluate, inspect, rectify, scene,
-                         synthesize)
+from mvtools.cli import (calibrate, colorcorrect, convert, estimate_depth, evaluate, inspect,
+                         rectify, scene, synthesize)
 from mvtools.cli.planned import PLANNED, planned_command
 
 PROGRAMS: dict[str, click.Command] = {
@@ -19,6 +19,7 @@ PROGRAMS: dict[str, click.Command] = {
     "estimate-depth": estimate_depth.command,
     "calibrate": calibrate.command,
     "rectify": rectify.command,
+    "colorcorrect": colorcorrect.command,
 }
 
 

@@ -13,9 +13,6 @@ from mvtools.cli.options import ProgramCommand, program
 from mvtools.errors import UsageError
 
 PLANNED = {
-    "colorcorrect": (
-        "Make the colours of the views agree: per-channel look-up tables to a reference view, "
-        "to the average of the views or to a colour chart.", 6),
     "pack": (
         "Pack views into frame-compatible layouts and texture+depth atlases, unpack them, "
         "and run compression experiments with real encoders.", 7),

@@ -1,0 +1,238 @@
+"""``mvtools colorcorrect``: make the colours of the views of an array agree."""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+from pathlib import Path
+
+import click
+import numpy as np
+
+from mvtools.cli.inputs import frame_range, open_input_video
+from mvtools.cli.options import (ProgramCommand, frame_range_options, program,
+                                 transposed_rotation_option, video_format_options)
+from mvtools.cli.progress import Progress
+from mvtools.color.correct import (SPACES, TARGETS, channel_names, correct_planes, view_tables,
+                                   working_codes)
+from mvtools.color.correspondence import corresponding_samples, warp_to_target
+from mvtools.errors import DataError, UsageError
+from mvtools.geometry.depth import depth_to_z
+from mvtools.io.cameras import get_camera
+from mvtools.io.json_cameras import read_camera_file
+from mvtools.io.luts import write_cube, write_lut
+from mvtools.io.yuv import open_writer
+from mvtools.metrics import psnr
+
+LOG = logging.getLogger("mvtools")
+
+
+@click.command(name="colorcorrect", cls=ProgramCommand)
+@click.option("--view", "views", multiple=True, nargs=2, required=True, metavar="NAME VIDEO",
+              help="A view to correct: its camera name and texture video (repeatable, in the "
+                   "array's order).")
+@click.option("--reference", default=None, metavar="NAME",
+              help="The view whose colours the others take (default: the middle view).")
+@click.option("--target", type=click.Choice(TARGETS), default="reference", show_default=True,
+              help="reference: every view takes the reference's colours; average: every view, "
+                   "the reference too, takes the average colour profile of all views.")
+@click.option("--cameras", "camera_file", type=click.Path(dir_okay=False), default=None,
+              help="Camera parameter file (MPEG text or JSON); with --depth, tables come from "
+                   "the pixels that show the same scene point in both views.")
+@click.option("--depth", "depths", multiple=True, nargs=2, metavar="NAME VIDEO",
+              help="Depth map video of a view (MPEG convention, repeatable). Without depth "
+                   "for a view and the reference, their cumulative histograms are matched.")
+@click.option("--depth-range", nargs=2, type=float, default=None, metavar="ZNEAR ZFAR",
+              help="Znear and Zfar of the depth maps (default: the cameras' Depth_range in "
+                   "an MPEG-I JSON camera file).")
+@click.option("--space", type=click.Choice(SPACES), default="rgb", show_default=True,
+              help="Channels the tables work on: RGB (a camera's response is per sensor "
+                   "channel) or the Y, U, V planes as they are (no resampling of chroma).")
+@click.option("--estimate-frames", type=click.IntRange(min=1), default=1, show_default=True,
+              help="Frames, from the first one processed, whose samples estimate the tables.")
+@click.option("-o", "--out-dir", required=True, type=click.Path(file_okay=False),
+              help="Folder for the corrected videos (named as their inputs) and each view's "
+                   "tables, NAME.lut.txt and NAME.cube.")
+@video_format_options
+@frame_range_options
+@transposed_rotation_option
+@program
+def command(views, reference, target, camera_file, depths, depth_range, space, estimate_frames,
+            out_dir, size, pix_fmt, start_frame, frame_count, transposed_rotation):
+    """Per-channel look-up tables that make the views' colours agree (seed eq. 1.18),
+    estimated from pixels that project onto each other (given cameras and depth maps)
+    or else by cumulative-histogram matching, then applied to every frame.
+
+    The tables are monotonic and smooth, estimated from the first --estimate-frames
+    frames and applied to all, one frame at a time.
+    """
+    names = [name for name, _ in views]
+    if len(set(names)) != len(names):
+        raise UsageError(f"a view is given twice ({', '.join(names)})")
+    if len(views) < 2:
+        raise UsageError("colour correction needs at least two views")
+    reference_index = names.index(reference) if reference in names else len(names) // 2
+    if reference is not None and reference not in names:
+        raise UsageError(f"--reference {reference}: no such view (views: {', '.join(names)})")
+    depth_of = dict(depths)
+    unknown = sorted(set(depth_of) - set(names))
+    if unknown:
+        raise UsageError(f"--depth {unknown[0]}: no such view (views: {', '.join(names)})")
+    cameras = _cameras(camera_file, depth_of, names, transposed_rotation)
+    out = Path(out_dir)
+    targets = {name: out / Path(path).name for name, path in views}
+    for name, path in views:
+        if targets[name].resolve() == Path(path).resolve():
+            raise UsageError("the output would overwrite the input: choose another --out-dir",
+                             path=path)
+    with contextlib.ExitStack() as stack:
+        videos = [stack.enter_context(open_input_video(path, size, pix_fmt)) for _, path in views]
+        fmt = _common_format(videos, names)
+        depth_videos = {name: stack.enter_context(open_input_video(path, size, pix_fmt))
+                        for name, path in depth_of.items()}
+        frames = frame_range(videos + list(depth_videos.values()), start_frame, frame_count)
+        estimation = frames[:estimate_frames]
+        matcher = _Matcher(names, reference_index, cameras, depth_videos, depth_range, fmt,
+                           space)
+        samples, method = matcher.samples(videos, estimation)
+        tables = view_tables(samples, reference_index, target=target, method=method,
+                             levels=2 ** fmt.bits)
+        out.mkdir(parents=True, exist_ok=True)
+        progress = Progress(len(frames) * len(views), "frames corrected")
+        for name, video, table in zip(names, videos, tables):
+            with open_writer(targets[name], fmt) as writer:
+                for index in frames:
+                    writer.write(correct_planes(video.read(index), table, bits=fmt.bits,
+                                                space=space, chroma=fmt.chroma))
+                    progress.advance()
+        channels = channel_names(space, len(fmt.plane_shapes))
+        for name, table in zip(names, tables):
+            write_lut(out / f"{name}.lut.txt", table, channels=channels)
+            if len(channels) == 3:
+                write_cube(out / f"{name}.cube", table, max_value=2 ** fmt.bits - 1,
+                           title=f"mvtools colorcorrect {name} ({space})")
+        click.echo(matcher.summary(videos, tables, estimation[0]))
+
+
+def _cameras(camera_file, depth_of, names, transposed_rotation):
+    if not depth_of:
+        return None
+    if camera_file is None:
+        raise UsageError("--depth needs --cameras: the camera parameter file of the views")
+    cameras = read_camera_file(camera_file, transposed_rotation=transposed_rotation)
+    return {name: get_camera(cameras, name, path=camera_file) for name in names}
+
+
+def _common_format(videos, names):
+    formats = {video.format for video in videos}
+    if len(formats) > 1:
+        listed = ", ".join(f"{name} {video.format}" for name, video in zip(names, videos))
+        raise DataError(f"the views differ in size or format ({listed}); colour tables map "
+                        "codes of one format")
+    return formats.pop()
+
+
+class _Matcher:
+    """Where the samples of each view and the reference come from: corresponding pixels
+    when both have depth maps, else their whole pictures' histograms."""
+
+    def __init__(self, names, reference, cameras, depth_videos, depth_range, fmt, space):
+        self.names, self.reference, self.cameras = names, reference, cameras
+        self.depth_videos, self.fmt, self.space = depth_videos, fmt, space
+        self.depth_range = None
+        if depth_videos:
+            self.depth_range = depth_range or _camera_depth_range(cameras, depth_videos)
+        missing = [name for name in names if name not in depth_videos]
+        if depth_videos and missing:
+            raise UsageError(f"depth maps are given for some views but not for "
+                             f"{', '.join(missing)}: give --depth for every view or for none")
+        self.method = "correspondences" if depth_videos else "histograms"
+
+    def _z(self, name, index):
+        video = self.depth_videos[name]
+        return depth_to_z(video.read(index)[0], *self.depth_range, bits=video.format.bits)
+
+    def samples(self, videos, frames):
+        codes = {}
+        for index in frames:
+            for name, video in zip(self.names, videos):
+                picture = working_codes(video.read(index), bits=self.fmt.bits, space=self.space)
+                _check_not_constant(picture, name, video.path)
+                codes.setdefault(name, []).append(picture)
+        reference_name = self.names[self.reference]
+        samples = []
+        for name in self.names:
+            if name == reference_name:
+                samples.append(None)
+                continue
+            pairs = [self._pair(name, codes[name][k], codes[reference_name][k], index)
+                     for k, index in enumerate(frames)]
+            samples.append((np.concatenate([pair[0] for pair in pairs]),
+                            np.concatenate([pair[1] for pair in pairs])))
+            LOG.info("%s: %d samples (%s) towards %s", name, len(samples[-1][0]), self.method,
+                     reference_name)
+        return samples, self.method
+
+    def _pair(self, name, picture, reference_picture, index):
+        channels = picture.shape[2]
+        if self.method == "histograms":
+            return picture.reshape(-1, channels), reference_picture.reshape(-1, channels)
+        reference_name = self.names[self.reference]
+        pair = corresponding_samples(picture, self.cameras[name], self._z(name, index),
+                                     reference_picture, self.cameras[reference_name],
+                                     self._z(reference_name, index))
+        if len(pair[0]) == 0:
+            raise DataError(f"view {name} and the reference {reference_name} share no "
+                            "visible pixel at the depths given: are the cameras and depth "
+                            "maps those of these views?")
+        return pair
+
+    def summary(self, videos, tables, index) -> str:
+        """How far each view is from the reference before and after, on the first
+        estimation frame: Y-PSNR of the view warped into the reference where both see
+        the scene, or without depth the difference of the mean codes."""
+        reference_name = self.names[self.reference]
+        by_name = dict(zip(self.names, videos))
+        reference = working_codes(by_name[reference_name].read(index), bits=self.fmt.bits,
+                                  space="yuv")[..., 0]
+        lines = [f"{'view':12s} {'method':16s} before   after"]
+        for name, table in zip(self.names, tables):
+            planes = by_name[name].read(index)
+            corrected = correct_planes(planes, table, bits=self.fmt.bits, space=self.space,
+                                       chroma=self.fmt.chroma)
+            if self.method == "correspondences" and name != reference_name:
+                scores = [self._warped_psnr(name, luma, reference, index)
+                          for luma in (planes[0], corrected[0])]
+                unit = "dB Y-PSNR, warped into the reference"
+            else:
+                scores = [abs(float(np.mean(luma)) - float(np.mean(reference)))
+                          for luma in (planes[0], corrected[0])]
+                unit = "mean Y difference to the reference"
+            lines.append(f"{name:12s} {self.method:16s} {scores[0]:7.2f} {scores[1]:7.2f}  "
+                         f"{unit}")
+        return "\n".join(lines)
+
+    def _warped_psnr(self, name, luma, reference, index):
+        reference_name = self.names[self.reference]
+        reference_z = self._z(reference_name, index)
+        warped, seen = warp_to_target(np.asarray(luma), self.cameras[name], self._z(name, index),
+                                      reference_z.shape, self.cameras[reference_name],
+                                      reference_z)
+        return psnr(warped[seen][None], reference[seen][None].astype(np.float64),
+                    max_value=2 ** self.fmt.bits - 1)
+
+
+def _camera_depth_range(cameras, depth_videos):
+    ranges = {cameras[name].depth_range for name in depth_videos}
+    if None in ranges or len(ranges) != 1:
+        raise UsageError("the depth maps' Znear and Zfar are unknown: give --depth-range "
+                         "ZNEAR ZFAR")
+    return ranges.pop()
+
+
+def _check_not_constant(picture, name, path):
+    for channel in range(picture.shape[2]):
+        values = picture[..., channel]
+        if values.min() == values.max():
+            raise DataError(f"view {name} is constant (every sample of channel {channel} is "
+                            f"{values.min()}): it has no colours to match", path=path)

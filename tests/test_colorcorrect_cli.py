@@ -1,0 +1,193 @@
+"""``mvtools colorcorrect`` on the sample scene's line of cameras, each given a known tone
+curve, gain and offset per RGB channel (camera 2 left ideal as the reference), and on bad
+input.
+
+Bar 1 of the issue: after correction to the reference, the Y-PSNR between each view warped
+into the reference and the reference improves by at least 10 dB, and the tables match the
+inverse of the applied curves within 2 code values (over the codes each view holds).
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mvtools.cli import colorcorrect
+from mvtools.color import rgb_to_yuv, yuv_to_rgb
+from mvtools.color.correspondence import warp_to_target
+from mvtools.geometry.depth import depth_to_z
+from mvtools.io.cameras import read_cameras
+from mvtools.io.luts import read_cube, read_lut
+from mvtools.io.yuv import YuvFormat, open_video, write_video
+from mvtools.metrics import psnr
+from mvtools.scene.rigs import ColorMismatch
+from program_runner import assert_one_line_error, invoke
+
+LINE = Path(__file__).resolve().parent.parent / "sample_data" / "line"
+FORMAT = YuvFormat(256, 192)
+DEPTH_FORMAT = YuvFormat(256, 192, chroma="400", bits=16)
+TEXTURE = "v{}_texture_256x192_yuv420p.yuv"
+DEPTH = "v{}_depth_256x192_gray16le.yuv"
+# Tone curve (gamma), gain and offset per RGB channel, out = gain * in ** gamma + offset.
+MISMATCHES = {
+    0: ColorMismatch(gain=(0.78, 0.80, 0.82), offset=(0.03, 0.03, 0.02), gamma=(1.30, 1.25, 1.20)),
+    1: ColorMismatch(gain=(1.12, 1.10, 1.05), offset=(-0.02, 0.0, 0.02), gamma=(0.85, 0.80, 0.90)),
+    2: ColorMismatch(),
+    3: ColorMismatch(gain=(0.90, 0.85, 0.95), offset=(0.05, 0.04, 0.06), gamma=(1.20, 1.35, 1.10)),
+    4: ColorMismatch(gain=(1.15, 1.20, 1.10), offset=(-0.04, -0.05, -0.02),
+                     gamma=(0.90, 0.95, 0.80)),
+}
+
+
+def frames(path: Path, fmt: YuvFormat = FORMAT) -> list[list[np.ndarray]]:
+    with open_video(path, fmt) as video:
+        return [[np.array(plane) for plane in frame] for frame in video]
+
+
+@pytest.fixture(scope="module")
+def mismatched(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("mismatched")
+    for view, mismatch in MISMATCHES.items():
+        changed = []
+        for frame in frames(LINE / TEXTURE.format(view)):
+            rgb = mismatch.apply(yuv_to_rgb(frame) / 255.0)
+            changed.append(rgb_to_yuv(np.round(rgb * 255).astype(np.uint8)))
+        write_video(folder / TEXTURE.format(view), FORMAT, changed)
+    return folder
+
+
+def view_arguments(folder: Path, *, depth: bool) -> list:
+    arguments = []
+    for view in MISMATCHES:
+        arguments += ["--view", f"cam{view}", folder / TEXTURE.format(view)]
+        if depth:
+            arguments += ["--depth", f"cam{view}", LINE / DEPTH.format(view)]
+    return arguments
+
+
+def warped_luma_psnr(view: int, texture: Path, reference: Path) -> float:
+    cameras = read_cameras(LINE / "cameras.txt")
+    z = {index: depth_to_z(frames(LINE / DEPTH.format(index), DEPTH_FORMAT)[0][0], 2.0, 13.0,
+                           bits=16) for index in (view, 2)}
+    luma = frames(texture)[0][0]
+    truth = frames(reference)[0][0].astype(np.float64)
+    warped, seen = warp_to_target(luma, cameras[f"cam{view}"], z[view], truth.shape,
+                                  cameras["cam2"], z[2])
+    return psnr(warped[seen][None], truth[seen][None], max_value=255)
+
+
+@pytest.fixture(scope="module")
+def corrected(mismatched, tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("corrected")
+    code, stdout, stderr = invoke(colorcorrect.command, *view_arguments(mismatched, depth=True),
+                                  "--cameras", LINE / "cameras.txt", "--depth-range", 2, 13,
+                                  "-o", out)
+    assert code == 0, stderr
+    assert "cam4" in stdout
+    return out
+
+
+@pytest.mark.parametrize("view", [0, 1, 3, 4])
+def test_correction_gains_10_db_in_the_warped_views(mismatched, corrected, view):
+    before = warped_luma_psnr(view, mismatched / TEXTURE.format(view), LINE / TEXTURE.format(2))
+    after = warped_luma_psnr(view, corrected / TEXTURE.format(view), LINE / TEXTURE.format(2))
+    ideal = warped_luma_psnr(view, LINE / TEXTURE.format(view), LINE / TEXTURE.format(2))
+    assert after >= before + 10.0
+    # as good as the views had no mismatch, up to the YUV round trip of the correction
+    assert after >= ideal - 1.0
+
+
+@pytest.mark.parametrize("view", [0, 1, 3, 4])
+def test_tables_invert_the_applied_curves(mismatched, corrected, view):
+    tables, channels = read_lut(corrected / f"cam{view}.lut.txt")
+    assert channels == ("R", "G", "B")
+    held = yuv_to_rgb(frames(mismatched / TEXTURE.format(view))[0])
+    codes = np.arange(256)
+    inverse = MISMATCHES[view].invert(np.repeat(codes[:, None] / 255.0, 3, axis=1)) * 255
+    for channel in range(3):
+        low, high = np.percentile(held[..., channel], [0.5, 99.5])
+        # clipped codes (0, 255) stand for many inputs and have no inverse
+        scored = (codes >= max(low, 1)) & (codes <= min(high, 254))
+        assert np.max(np.abs(tables[channel] - inverse[:, channel])[scored]) <= 2.0
+    np.testing.assert_allclose(read_cube(corrected / f"cam{view}.cube") * 255, tables, atol=2e-3)
+
+
+def test_reference_view_is_left_as_it_was(corrected):
+    tables, _ = read_lut(corrected / "cam2.lut.txt")
+    np.testing.assert_allclose(tables, np.tile(np.arange(256.0), (3, 1)))
+
+
+def test_histograms_without_depth_still_bring_the_views_close(mismatched, tmp_path):
+    code, _, stderr = invoke(colorcorrect.command, *view_arguments(mismatched, depth=False),
+                             "-o", tmp_path)
+    assert code == 0, stderr
+    for view in (0, 1, 3, 4):
+        before = warped_luma_psnr(view, mismatched / TEXTURE.format(view), LINE / TEXTURE.format(2))
+        after = warped_luma_psnr(view, tmp_path / TEXTURE.format(view), LINE / TEXTURE.format(2))
+        # the views see slightly different parts of the scene: histograms are less exact
+        assert after >= before + 5.0
+
+
+def test_average_target_makes_the_views_agree_with_each_other(mismatched, tmp_path):
+    code, _, stderr = invoke(colorcorrect.command, *view_arguments(mismatched, depth=True),
+                             "--cameras", LINE / "cameras.txt", "--depth-range", 2, 13,
+                             "--target", "average", "-o", tmp_path)
+    assert code == 0, stderr
+    # the reference changes too, towards the others, and the views agree with it
+    reference = tmp_path / TEXTURE.format(2)
+    assert frames(reference)[0][0].tobytes() != frames(LINE / TEXTURE.format(2))[0][0].tobytes()
+    for view in (0, 1, 3, 4):
+        assert warped_luma_psnr(view, tmp_path / TEXTURE.format(view), reference) >= 35.0
+
+
+@pytest.mark.parametrize("arguments, code, fragment", [
+    (["--reference", "nosuch"], 2, "nosuch"),
+    (["--depth", "cam0", str(LINE / DEPTH.format(0))], 2, "--cameras"),
+    (["--depth", "cam0", str(LINE / DEPTH.format(0)), "--cameras", str(LINE / "cameras.txt"),
+      "--depth-range", "2", "13"], 2, "cam1"),
+])
+def test_bad_options_are_one_line_and_write_nothing(mismatched, tmp_path, arguments, code,
+                                                    fragment):
+    out = tmp_path / "out"
+    result = invoke(colorcorrect.command, *view_arguments(mismatched, depth=False), *arguments,
+                    "-o", out)
+    assert result[0] == code
+    assert_one_line_error(result[2], fragment)
+    assert not out.exists()
+
+
+def test_views_of_different_sizes_are_a_data_error(mismatched, tmp_path):
+    small = tmp_path / "v9_texture_128x96_yuv420p.yuv"
+    write_video(small, YuvFormat(128, 96), [[plane[::2, ::2] for plane in frame]
+                                            for frame in frames(mismatched / TEXTURE.format(1))])
+    code, _, stderr = invoke(colorcorrect.command, "--view", "cam0",
+                             mismatched / TEXTURE.format(0), "--view", "cam9", small,
+                             "-o", tmp_path / "out")
+    assert code == 1
+    assert_one_line_error(stderr, "cam9", "128x96")
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_constant_view_is_a_data_error(mismatched, tmp_path):
+    flat = tmp_path / "v8_texture_256x192_yuv420p.yuv"
+    shape = FORMAT.plane_shapes
+    write_video(flat, FORMAT, [[np.full(shape[0], 100, np.uint8), np.full(shape[1], 128, np.uint8),
+                                np.full(shape[2], 128, np.uint8)]] * 3)
+    code, _, stderr = invoke(colorcorrect.command, "--view", "cam0",
+                             mismatched / TEXTURE.format(0), "--view", "cam8", flat,
+                             "-o", tmp_path / "out")
+    assert code == 1
+    assert_one_line_error(stderr, "cam8", "constant")
+    assert not (tmp_path / "out").exists()
+
+
+def test_refuses_to_overwrite_its_input(mismatched, tmp_path):
+    for view in (0, 1):
+        shutil.copy(mismatched / TEXTURE.format(view), tmp_path)
+    code, _, stderr = invoke(colorcorrect.command, "--view", "cam0", tmp_path / TEXTURE.format(0),
+                             "--view", "cam1", tmp_path / TEXTURE.format(1), "-o", tmp_path)
+    assert code == 2
+    assert_one_line_error(stderr, "overwrite")
