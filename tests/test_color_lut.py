@@ -7,12 +7,13 @@ import numpy as np
 import pytest
 
 from mvtools.color.correct import correct_planes, view_tables, working_codes
-from mvtools.color.correspondence import disparity_samples, overlap_samples
+from mvtools.color.correspondence import common_view, disparity_samples, overlap_samples
 from mvtools.color.lut import (apply_lut, average_target, compose_luts, fit_lut, histogram_lut,
                                identity_lut, invert_lut)
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
 from mvtools.depth import estimate_disparity
 from mvtools.errors import ConfigError
+from mvtools.geometry.camera import Camera
 from mvtools.io.luts import read_cube, read_lut, write_cube, write_lut
 from mvtools.io.middlebury import MIDDLEBURY_SETS
 from shared_data import shared_data
@@ -169,3 +170,15 @@ def test_cube_files_hold_normalised_tables(tmp_path):
     (tmp_path / "short.cube").write_text("LUT_1D_SIZE 4\n0 0 0\n1 1 1\n")
     with pytest.raises(ConfigError, match="2 entries"):
         read_cube(tmp_path / "short.cube")
+
+
+def test_common_view_of_two_parallel_cameras_is_hand_computed():
+    K = [[240.0, 0.0, 127.5], [0.0, 240.0, 95.5], [0.0, 0.0, 1.0]]
+    left = Camera("left", K=K, t=[-0.2, 0.0, 0.0], size=(256, 192))
+    right = Camera("right", K=K, t=[0.0, 0.0, 0.0], size=(256, 192))
+    # at z = 4 m the disparity is 240 * 0.2 / 4 = 12 px: left columns 12 and beyond
+    # (u - 12 >= -0.5) land in the right picture, right columns up to 243 in the left one
+    seen = common_view(left, right, (192, 256), 4.0)
+    np.testing.assert_array_equal(seen, np.broadcast_to(np.arange(256) >= 12, (192, 256)))
+    back = common_view(right, left, (192, 256), 4.0)
+    np.testing.assert_array_equal(back, np.broadcast_to(np.arange(256) <= 243, (192, 256)))

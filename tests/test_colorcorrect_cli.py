@@ -191,3 +191,14 @@ def test_refuses_to_overwrite_its_input(mismatched, tmp_path):
                              "--view", "cam1", tmp_path / TEXTURE.format(1), "-o", tmp_path)
     assert code == 2
     assert_one_line_error(stderr, "overwrite")
+
+
+def test_histograms_over_the_common_field_of_view_with_cameras(mismatched, tmp_path):
+    code, _, stderr = invoke(colorcorrect.command, *view_arguments(mismatched, depth=False),
+                             "--cameras", LINE / "cameras.txt", "--depth-range", 2, 13,
+                             "-o", tmp_path)
+    assert code == 0, stderr
+    for view in (0, 1, 3, 4):
+        before = warped_luma_psnr(view, mismatched / TEXTURE.format(view), LINE / TEXTURE.format(2))
+        after = warped_luma_psnr(view, tmp_path / TEXTURE.format(view), LINE / TEXTURE.format(2))
+        assert after >= before + 10.0

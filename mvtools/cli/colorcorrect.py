@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+from dataclasses import replace
 from pathlib import Path
 
 import click
@@ -15,7 +16,7 @@ from mvtools.cli.options import (ProgramCommand, frame_range_options, program,
 from mvtools.cli.progress import Progress
 from mvtools.color.correct import (SPACES, TARGETS, channel_names, correct_planes, view_tables,
                                    working_codes)
-from mvtools.color.correspondence import corresponding_samples, warp_to_target
+from mvtools.color.correspondence import common_view, corresponding_samples, warp_to_target
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import depth_to_z
 from mvtools.io.cameras import get_camera
@@ -37,8 +38,9 @@ LOG = logging.getLogger("mvtools")
               help="reference: every view takes the reference's colours; average: every view, "
                    "the reference too, takes the average colour profile of all views.")
 @click.option("--cameras", "camera_file", type=click.Path(dir_okay=False), default=None,
-              help="Camera parameter file (MPEG text or JSON); with --depth, tables come from "
-                   "the pixels that show the same scene point in both views.")
+              help="Camera parameter file (MPEG text or JSON). With --depth, tables come from "
+                   "the pixels that show the same scene point in both views; without, the "
+                   "histograms are taken over the field of view both cameras share.")
 @click.option("--depth", "depths", multiple=True, nargs=2, metavar="NAME VIDEO",
               help="Depth map video of a view (MPEG convention, repeatable). Without depth "
                    "for a view and the reference, their cumulative histograms are matched.")
@@ -115,10 +117,10 @@ def command(views, reference, target, camera_file, depths, depth_range, space, e
 
 
 def _cameras(camera_file, depth_of, names, transposed_rotation):
-    if not depth_of:
-        return None
     if camera_file is None:
-        raise UsageError("--depth needs --cameras: the camera parameter file of the views")
+        if depth_of:
+            raise UsageError("--depth needs --cameras: the camera parameter file of the views")
+        return None
     cameras = read_camera_file(camera_file, transposed_rotation=transposed_rotation)
     return {name: get_camera(cameras, name, path=camera_file) for name in names}
 
@@ -140,8 +142,8 @@ class _Matcher:
         self.names, self.reference, self.cameras = names, reference, cameras
         self.depth_videos, self.fmt, self.space = depth_videos, fmt, space
         self.depth_range = None
-        if depth_videos:
-            self.depth_range = depth_range or _camera_depth_range(cameras, depth_videos)
+        if cameras is not None:
+            self.depth_range = depth_range or _camera_depth_range(cameras, names)
         missing = [name for name in names if name not in depth_videos]
         if depth_videos and missing:
             raise UsageError(f"depth maps are given for some views but not for "
@@ -176,7 +178,18 @@ class _Matcher:
     def _pair(self, name, picture, reference_picture, index):
         channels = picture.shape[2]
         if self.method == "histograms":
-            return picture.reshape(-1, channels), reference_picture.reshape(-1, channels)
+            if self.cameras is None:
+                return picture.reshape(-1, channels), reference_picture.reshape(-1, channels)
+            # the field of view both cameras share, for points at the typical depth
+            reference_camera = self.cameras[self.names[self.reference]]
+            camera = self.cameras[name]
+            znear, zfar = self.depth_range
+            z = 2.0 / (1.0 / znear + 1.0 / zfar)
+            size = (picture.shape[1], picture.shape[0])
+            seen = common_view(camera, replace(reference_camera, size=size), picture.shape[:2], z)
+            seen_back = common_view(reference_camera, replace(camera, size=size),
+                                    picture.shape[:2], z)
+            return picture[seen], reference_picture[seen_back]
         reference_name = self.names[self.reference]
         pair = corresponding_samples(picture, self.cameras[name], self._z(name, index),
                                      reference_picture, self.cameras[reference_name],
@@ -222,11 +235,11 @@ class _Matcher:
                     max_value=2 ** self.fmt.bits - 1)
 
 
-def _camera_depth_range(cameras, depth_videos):
-    ranges = {cameras[name].depth_range for name in depth_videos}
+def _camera_depth_range(cameras, names):
+    ranges = {cameras[name].depth_range for name in names}
     if None in ranges or len(ranges) != 1:
-        raise UsageError("the depth maps' Znear and Zfar are unknown: give --depth-range "
-                         "ZNEAR ZFAR")
+        raise UsageError("the scene's Znear and Zfar are unknown (for depth maps, and for "
+                         "the views' common field of view): give --depth-range ZNEAR ZFAR")
     return ranges.pop()
 
 

@@ -14,7 +14,8 @@ import numpy as np
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.projection import pixel_grid, reproject
 
-__all__ = ["corresponding_samples", "warp_to_target", "disparity_samples", "overlap_samples"]
+__all__ = ["corresponding_samples", "warp_to_target", "disparity_samples", "common_view",
+           "overlap_samples"]
 
 
 def _smooth_depth(z: np.ndarray, tolerance: float) -> np.ndarray:
@@ -171,6 +172,35 @@ def disparity_samples(view: np.ndarray, target: np.ndarray, target_disparity: np
     channels = 1 if view.ndim == 2 else view.shape[2]
     return (view[rows[inside], other[inside]].reshape(-1, channels),
             target[rows[inside], columns[inside]].reshape(-1, channels))
+
+
+def common_view(camera: Camera, other: Camera, shape: tuple[int, int], z: float) -> np.ndarray:
+    """Pixels of ``camera``'s picture that ``other`` also sees, for scene points at depth
+    ``z`` along ``camera``'s axis: the overlapping field of view over which histograms
+    of the two views are comparable when no depth map tells where each point is.
+
+    Parameters
+    ----------
+    camera, other : Camera
+        ``other.size`` gives its picture size.
+    shape : (rows, columns)
+        Size of ``camera``'s picture.
+    z : float
+        A depth typical of the scene (e.g. the harmonic mean of Znear and Zfar).
+
+    Returns
+    -------
+    ndarray of bool, shape ``shape``
+    """
+    if other.size is None:
+        raise ValueError(f"camera {other.name!r} needs its picture size")
+    if not z > 0:
+        raise ValueError(f"z must be positive, got {z}")
+    u, v = pixel_grid(shape[1], shape[0])
+    u2, v2, z2 = reproject(camera, other, u, v, np.full(u.shape, float(z)))
+    width, height = other.size
+    with np.errstate(invalid="ignore"):
+        return (z2 > 0) & (u2 >= -0.5) & (u2 <= width - 0.5) & (v2 >= -0.5) & (v2 <= height - 0.5)
 
 
 def overlap_samples(image: np.ndarray, *, columns: tuple[int, int] | None = None) -> np.ndarray:
