@@ -1,9 +1,11 @@
-"""Quality metrics: PSNR, YUV-PSNR, SSIM, IV-PSNR and Middlebury disparity scores.
+"""Quality metrics: PSNR, YUV-PSNR, SSIM, IV-PSNR, Middlebury disparity scores and
+Bjontegaard deltas.
 
 Arrays in, numbers out: no files here (``mvtools.io.middlebury`` reads the
 Middlebury ground truth).
 """
 
+from mvtools.metrics.bjontegaard import bd_psnr, bd_rate
 from mvtools.metrics.disparity import (
     DisparityScore, known_ground_truth, nonoccluded_from_other_view, score_disparity)
 from mvtools.metrics.ivpsnr import global_color_shift, iv_psnr
@@ -13,5 +15,5 @@ from mvtools.metrics.ssim import ssim
 __all__ = [
     "psnr", "plane_psnr", "yuv_psnr", "YUV_PSNR_WEIGHTS", "ssim", "iv_psnr",
     "global_color_shift", "score_disparity", "DisparityScore", "known_ground_truth",
-    "nonoccluded_from_other_view",
+    "nonoccluded_from_other_view", "bd_rate", "bd_psnr",
 ]
