@@ -28,12 +28,6 @@ def test_every_program_states_its_purpose():
         assert code == 0 and len(out.splitlines()) > 3, name
 
 
-def test_planned_program_says_not_implemented():
-    code, _, err = run("pack", "some.cfg")
-    assert code == 2
-    assert_one_line_error(err, "not implemented yet")
-
-
 # --------------------------------------------------------------------- evaluate
 
 def _grey_video(path: Path, values: list[int], shape=(8, 6)) -> YuvFormat:

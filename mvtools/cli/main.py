@@ -6,11 +6,9 @@ import click
 
 from mvtools import __version__
 from mvtools.cli import (calibrate, colorcorrect, convert, estimate_depth, evaluate, inspect,
-                         rectify, scene, synthesize)
-from mvtools.cli.planned import PLANNED, planned_command
+                         pack, rectify, scene, synthesize)
 
 PROGRAMS: dict[str, click.Command] = {
-    **{name: planned_command(name) for name in PLANNED},
     "evaluate": evaluate.command,
     "convert": convert.command,
     "inspect": inspect.command,
@@ -20,6 +18,7 @@ PROGRAMS: dict[str, click.Command] = {
     "calibrate": calibrate.command,
     "rectify": rectify.command,
     "colorcorrect": colorcorrect.command,
+    "pack": pack.command,
 }
 
 

@@ -1,0 +1,143 @@
+"""The JSON sidecar of a packed video: its layout, the views' names, files, sizes,
+offsets and decimation, so that ``mvtools pack --unpack`` restores every view::
+
+    {"format": "mvtools-pack", "version": 1, "layout": "grid",
+     "width": 768, "height": 384, "pix_fmt": "yuv420p", "frames": 3,
+     "views": [{"name": "cam0", "kind": "texture", "file": "v0_texture_256x192_yuv420p.yuv",
+                "pix_fmt": "yuv420p", "x": 0, "y": 0, "width": 256, "height": 192,
+                "source_width": 256, "source_height": 192, "decimation": [1, 1]}, ...]}
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from mvtools.errors import ConfigError
+from mvtools.io.atomic import atomic_output
+from mvtools.io.files import read_text
+from mvtools.pack.layout import KINDS, LAYOUTS, Layout, Placement
+
+__all__ = ["PackedVideo", "read_sidecar", "write_sidecar", "sidecar_path"]
+
+FORMAT_NAME = "mvtools-pack"
+VERSION = 1
+
+
+@dataclass(frozen=True)
+class PackedVideo:
+    """What a sidecar says: the layout, the packed frames' pixel format and count, and
+    per view its original file name and pixel format."""
+
+    layout: Layout
+    pix_fmt: str
+    frames: int
+    files: dict[tuple[str, str], str]
+    pix_fmts: dict[tuple[str, str], str]
+
+
+def sidecar_path(video: str | os.PathLike) -> Path:
+    """``packed_1920x1080_yuv420p.yuv`` -> ``packed_1920x1080_yuv420p.json``."""
+    return Path(video).with_suffix(".json")
+
+
+def write_sidecar(path: str | os.PathLike, packed: PackedVideo) -> None:
+    """Write the sidecar, atomically."""
+    layout = packed.layout
+    views = []
+    for placement in layout.placements:
+        key = (placement.name, placement.kind)
+        views.append({"name": placement.name, "kind": placement.kind, "file": packed.files[key],
+                      "pix_fmt": packed.pix_fmts[key], "x": placement.x, "y": placement.y,
+                      "width": placement.width, "height": placement.height,
+                      "source_width": placement.source_width,
+                      "source_height": placement.source_height,
+                      "decimation": list(placement.decimation)})
+    document = {"format": FORMAT_NAME, "version": VERSION, "layout": layout.kind,
+                "width": layout.width, "height": layout.height, "pix_fmt": packed.pix_fmt,
+                "frames": packed.frames, "views": views}
+    with atomic_output(path, "w") as handle:
+        json.dump(document, handle, indent=1)
+        handle.write("\n")
+
+
+def _field(entry: dict, key: str, kind, path: Path, where: str):
+    if key not in entry:
+        raise ConfigError(f"{where} has no {key!r}", path=path, key=key)
+    value = entry[key]
+    if kind is int and (isinstance(value, bool) or not isinstance(value, int)):
+        raise ConfigError(f"{where}: {key} must be a whole number, got {value!r}", path=path,
+                          key=key)
+    if kind is str and not isinstance(value, str):
+        raise ConfigError(f"{where}: {key} must be text, got {value!r}", path=path, key=key)
+    return value
+
+
+def read_sidecar(path: str | os.PathLike) -> PackedVideo:
+    """Read and check a sidecar.
+
+    Raises
+    ------
+    ConfigError
+        Not JSON, not an mvtools pack sidecar, a missing or mistyped field, or views
+        that overlap or leave the frame (naming the view and the field).
+    """
+    path = Path(path)
+    try:
+        document = json.loads(read_text(path, "pack sidecar"))
+    except json.JSONDecodeError as error:
+        raise ConfigError(f"not JSON: {error.msg}", path=path, line=error.lineno) from None
+    if not isinstance(document, dict) or document.get("format") != FORMAT_NAME:
+        raise ConfigError(f"not an mvtools pack sidecar (no \"format\": \"{FORMAT_NAME}\")",
+                          path=path)
+    if document.get("version") != VERSION:
+        raise ConfigError(f"sidecar version {document.get('version')!r}; this mvtools reads "
+                          f"version {VERSION}", path=path, key="version")
+    kind = _field(document, "layout", str, path, "the sidecar")
+    if kind not in LAYOUTS:
+        raise ConfigError(f"layout {kind!r} is not one of {', '.join(LAYOUTS)}", path=path,
+                          key="layout")
+    width = _field(document, "width", int, path, "the sidecar")
+    height = _field(document, "height", int, path, "the sidecar")
+    pix_fmt = _field(document, "pix_fmt", str, path, "the sidecar")
+    frames = _field(document, "frames", int, path, "the sidecar")
+    entries = document.get("views")
+    if not isinstance(entries, list) or not entries:
+        raise ConfigError("the sidecar lists no views", path=path, key="views")
+    placements, files, pix_fmts = [], {}, {}
+    for index, entry in enumerate(entries):
+        where = f"view {index}"
+        if not isinstance(entry, dict):
+            raise ConfigError(f"{where} is not an object", path=path, key="views")
+        numbers = {key: _field(entry, key, int, path, where)
+                   for key in ("x", "y", "width", "height", "source_width", "source_height")}
+        name = _field(entry, "name", str, path, where)
+        view_kind = _field(entry, "kind", str, path, f"view {name}")
+        if view_kind not in KINDS:
+            raise ConfigError(f"view {name}: kind {view_kind!r} is not one of "
+                              f"{', '.join(KINDS)}", path=path, key="kind")
+        decimation = entry.get("decimation", [1, 1])
+        if (not isinstance(decimation, list) or len(decimation) != 2
+                or any(factor not in (1, 2) for factor in decimation)):
+            raise ConfigError(f"view {name}: decimation must be two factors of 1 or 2, got "
+                              f"{decimation!r}", path=path, key="decimation")
+        placement = Placement(name=name, kind=view_kind, decimation=tuple(decimation), **numbers)
+        if (placement.x < 0 or placement.y < 0 or placement.x + placement.width > width
+                or placement.y + placement.height > height):
+            raise ConfigError(f"view {name} ({placement.width}x{placement.height} at "
+                              f"{placement.x},{placement.y}) leaves the {width}x{height} frame",
+                              path=path, key="views")
+        for other in placements:
+            if (placement.x < other.x + other.width and other.x < placement.x + placement.width
+                    and placement.y < other.y + other.height
+                    and other.y < placement.y + placement.height):
+                raise ConfigError(f"views {other.name} and {name} overlap", path=path,
+                                  key="views")
+        placements.append(placement)
+        files[(name, view_kind)] = _field(entry, "file", str, path, f"view {name}")
+        pix_fmts[(name, view_kind)] = _field(entry, "pix_fmt", str, path, f"view {name}")
+    layout = Layout(kind=kind, width=width, height=height, placements=tuple(placements))
+    return PackedVideo(layout=layout, pix_fmt=pix_fmt, frames=frames, files=files,
+                       pix_fmts=pix_fmts)

@@ -1,0 +1,8 @@
+"""Frame-compatible packing of views and depth maps (seed section 1.6): layouts, packing
+and unpacking of frames."""
+
+from mvtools.pack.frames import CHROMA_FACTORS, pack_frame, unpack_frame
+from mvtools.pack.layout import LAYOUTS, Layout, Placement, plan_layout
+
+__all__ = ["LAYOUTS", "Layout", "Placement", "plan_layout", "pack_frame", "unpack_frame",
+           "CHROMA_FACTORS"]
