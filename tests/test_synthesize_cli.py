@@ -19,7 +19,7 @@ import pytest
 
 from mvtools.cli import synthesize as synthesize_module
 from mvtools.synthesis.working import DepthCoding
-from mvtools.errors import DataError, UsageError
+from mvtools.errors import DataError
 from mvtools.geometry.depth import depth_to_z, z_to_depth
 from mvtools.geometry.projection import backproject, pixel_grid
 from mvtools.io.cameras import read_cameras

@@ -29,7 +29,7 @@ from mvtools.errors import ConfigError, UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.atomic import atomic_output
 from mvtools.io.cameras import read_cameras, store_camera
-from mvtools.io.files import read_text
+from mvtools.io.files import json_numbers, read_json
 
 __all__ = ["read_json_cameras", "write_json_cameras", "read_camera_file", "OMAF_TO_CAMERA",
            "rotation_from_euler", "euler_from_rotation"]
@@ -71,20 +71,6 @@ def euler_from_rotation(rotation: np.ndarray) -> tuple[float, float, float]:
     return math.degrees(yaw), math.degrees(pitch), math.degrees(roll)
 
 
-def _numbers(entry: dict, field: str, count: int, *, path: Path, name: str,
-             required: bool = True) -> list[float] | None:
-    value = entry.get(field)
-    if value is None and not required:
-        return None
-    if (not isinstance(value, list) or len(value) != count
-            or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                       and math.isfinite(x) for x in value)):
-        shown = "missing" if value is None else f"got {json.dumps(value)}"
-        raise ConfigError(f"{field} must be a list of {count} finite numbers, {shown}",
-                          path=path, key=name)
-    return [float(x) for x in value]
-
-
 def _camera_from_json(entry: object, index: int, path: Path) -> Camera:
     if not isinstance(entry, dict):
         raise ConfigError("a camera must be a JSON object", path=path, key=f"cameras[{index}]")
@@ -95,12 +81,12 @@ def _camera_from_json(entry: object, index: int, path: Path) -> Camera:
     if projection != "Perspective":
         raise ConfigError(f"projection {projection!r} is not supported (only 'Perspective')",
                           path=path, key=name)
-    position = _numbers(entry, "Position", 3, path=path, name=name)
-    yaw, pitch, roll = _numbers(entry, "Rotation", 3, path=path, name=name)
-    fx, fy = _numbers(entry, "Focal", 2, path=path, name=name)
-    cx, cy = _numbers(entry, "Principle_point", 2, path=path, name=name)
-    resolution = _numbers(entry, "Resolution", 2, path=path, name=name, required=False)
-    depth_range = _numbers(entry, "Depth_range", 2, path=path, name=name, required=False)
+    position = json_numbers(entry, "Position", 3, path=path, key=name)
+    yaw, pitch, roll = json_numbers(entry, "Rotation", 3, path=path, key=name)
+    fx, fy = json_numbers(entry, "Focal", 2, path=path, key=name)
+    cx, cy = json_numbers(entry, "Principle_point", 2, path=path, key=name)
+    resolution = json_numbers(entry, "Resolution", 2, path=path, key=name, required=False)
+    depth_range = json_numbers(entry, "Depth_range", 2, path=path, key=name, required=False)
     if resolution is not None and not all(x.is_integer() and x > 0 for x in resolution):
         raise ConfigError(f"Resolution must be two positive integers, got {resolution}",
                           path=path, key=name)
@@ -128,12 +114,7 @@ def read_json_cameras(path: str | os.PathLike) -> dict[str, Camera]:
         projection other than ``Perspective``.
     """
     path = Path(path)
-    text = read_text(path, "camera file")
-    try:
-        document = json.loads(text)
-    except json.JSONDecodeError as err:
-        raise ConfigError(f"invalid JSON: {err.msg} (column {err.colno})", path=path,
-                          line=err.lineno) from None
+    document = read_json(path, "camera file")
     entries = document.get("cameras") if isinstance(document, dict) else None
     if not isinstance(entries, list) or not entries:
         raise ConfigError("expected an object with a non-empty 'cameras' array", path=path)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from mvtools.errors import ConfigError
 from mvtools.io.atomic import atomic_output
-from mvtools.io.files import read_text
+from mvtools.io.files import read_json
 from mvtools.pack.layout import KINDS, LAYOUTS, Layout, Placement
 
 __all__ = ["PackedVideo", "read_sidecar", "write_sidecar", "sidecar_path"]
@@ -85,10 +85,7 @@ def read_sidecar(path: str | os.PathLike) -> PackedVideo:
         that overlap or leave the frame (naming the view and the field).
     """
     path = Path(path)
-    try:
-        document = json.loads(read_text(path, "pack sidecar"))
-    except json.JSONDecodeError as error:
-        raise ConfigError(f"not JSON: {error.msg}", path=path, line=error.lineno) from None
+    document = read_json(path, "pack sidecar")
     if not isinstance(document, dict) or document.get("format") != FORMAT_NAME:
         raise ConfigError(f"not an mvtools pack sidecar (no \"format\": \"{FORMAT_NAME}\")",
                           path=path)
