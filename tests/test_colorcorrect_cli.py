@@ -17,20 +17,26 @@ import pytest
 
 from mvtools.cli import colorcorrect
 from mvtools.color import rgb_to_yuv, yuv_to_rgb
+from mvtools.color.chart import delta_e_2000, linear_rgb_to_lab, sample_patches, srgb_to_linear
 from mvtools.color.correspondence import warp_to_target
 from mvtools.geometry.depth import depth_to_z
 from mvtools.io.cameras import read_cameras
-from mvtools.io.luts import read_cube, read_lut
+from mvtools.io.color_charts import read_colorchecker, read_colorchecker_srgb
+from mvtools.io.luts import read_cube, read_lut, read_matrix
 from mvtools.io.yuv import YuvFormat, open_video, write_video
 from mvtools.metrics import psnr
 from mvtools.scene.rigs import ColorMismatch
+from chart_scene import CORNERS, photograph
 from program_runner import assert_one_line_error, invoke
+from shared_data import shared_data
 
 LINE = Path(__file__).resolve().parent.parent / "sample_data" / "line"
 FORMAT = YuvFormat(256, 192)
 DEPTH_FORMAT = YuvFormat(256, 192, chroma="400", bits=16)
 TEXTURE = "v{}_texture_256x192_yuv420p.yuv"
 DEPTH = "v{}_depth_256x192_gray16le.yuv"
+CHARTS_JSON = "CCS_COLOURCHECKERS_colour_science_0.4.7.json"
+SRGB_CSV = "ColorChecker24_after_Nov2014_sRGB8bit_Bradford_D50toD65.csv"
 # Tone curve (gamma), gain and offset per RGB channel, out = gain * in ** gamma + offset.
 MISMATCHES = {
     0: ColorMismatch(gain=(0.78, 0.80, 0.82), offset=(0.03, 0.03, 0.02), gamma=(1.30, 1.25, 1.20)),
@@ -202,3 +208,54 @@ def test_histograms_over_the_common_field_of_view_with_cameras(mismatched, tmp_p
         before = warped_luma_psnr(view, mismatched / TEXTURE.format(view), LINE / TEXTURE.format(2))
         after = warped_luma_psnr(view, tmp_path / TEXTURE.format(view), LINE / TEXTURE.format(2))
         assert after >= before + 10.0
+
+
+@pytest.fixture(scope="module")
+def chart_video(tmp_path_factory):
+    """Two frames of a camera with a known response photographing a ColorChecker."""
+    folder = tmp_path_factory.mktemp("chart")
+    _, srgb = read_colorchecker_srgb(shared_data("color", "colour_science", SRGB_CSV))
+    picture = photograph(srgb / 255.0, CORNERS)
+    path = folder / "chart_320x240_yuv444p.yuv"
+    write_video(path, YuvFormat(320, 240, chroma="444"), [rgb_to_yuv(picture, chroma="444")] * 2)
+    return path, CORNERS
+
+
+def chart_delta_e(path: Path, corners) -> np.ndarray:
+    chart = read_colorchecker(shared_data("color", "colour_science", CHARTS_JSON))
+    rgb = yuv_to_rgb(frames(path, YuvFormat(320, 240, chroma="444"))[0]) / 255.0
+    measured = sample_patches(rgb, corners)
+    lab = linear_rgb_to_lab(srgb_to_linear(measured), white=chart.white_xyz)
+    return delta_e_2000(lab, chart.lab)
+
+
+@pytest.mark.parametrize("given_corners", [False, True])
+def test_chart_target_brings_the_patches_to_their_reference(chart_video, tmp_path,
+                                                            given_corners):
+    path, corners = chart_video
+    extra = (["--chart-corners", "cam", ",".join(f"{value:g}" for value in corners.ravel())]
+             if given_corners else [])
+    code, stdout, stderr = invoke(colorcorrect.command, "--view", "cam", path, "--target", "chart",
+                                  "--chart-reference",
+                                  shared_data("color", "colour_science", CHARTS_JSON),
+                                  *extra, "-o", tmp_path)
+    assert code == 0, stderr
+    before = chart_delta_e(path, corners)
+    after = chart_delta_e(tmp_path / path.name, corners)
+    # measured: mean 9.9 before, under 1 after (the YUV round trip included)
+    assert before.mean() > 5.0
+    assert after.mean() < 1.5
+    assert "cam" in stdout
+    assert read_cube(tmp_path / "cam.cube").shape == (33, 33, 33, 3)
+    assert read_matrix(tmp_path / "cam.ccm.txt").shape == (3, 3)
+
+
+def test_chart_not_found_is_a_data_error(mismatched, tmp_path):
+    code, _, stderr = invoke(colorcorrect.command, "--view", "cam0",
+                             mismatched / TEXTURE.format(0), "--target", "chart",
+                             "--chart-reference",
+                             shared_data("color", "colour_science", CHARTS_JSON),
+                             "-o", tmp_path / "out")
+    assert code == 1
+    assert_one_line_error(stderr, "cam0", "no ColorChecker")
+    assert not (tmp_path / "out").exists()

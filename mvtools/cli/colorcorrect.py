@@ -14,14 +14,18 @@ from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import (ProgramCommand, frame_range_options, program,
                                  transposed_rotation_option, video_format_options)
 from mvtools.cli.progress import Progress
+from mvtools.color import rgb_to_yuv, yuv_to_rgb
+from mvtools.color.chart import (delta_e_2000, detect_chart, fit_chart_correction,
+                                 linear_rgb_to_lab, sample_patches, srgb_to_linear)
 from mvtools.color.correct import (SPACES, TARGETS, channel_names, correct_planes, view_tables,
                                    working_codes)
 from mvtools.color.correspondence import common_view, corresponding_samples, warp_to_target
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import depth_to_z
 from mvtools.io.cameras import get_camera
+from mvtools.io.color_charts import DEFAULT_CHART, read_colorchecker
 from mvtools.io.json_cameras import read_camera_file
-from mvtools.io.luts import write_cube, write_lut
+from mvtools.io.luts import write_cube, write_lut, write_matrix
 from mvtools.io.yuv import open_writer
 from mvtools.metrics import psnr
 
@@ -34,9 +38,25 @@ LOG = logging.getLogger("mvtools")
                    "array's order).")
 @click.option("--reference", default=None, metavar="NAME",
               help="The view whose colours the others take (default: the middle view).")
-@click.option("--target", type=click.Choice(TARGETS), default="reference", show_default=True,
+@click.option("--target", type=click.Choice((*TARGETS, "chart")), default="reference",
+              show_default=True,
               help="reference: every view takes the reference's colours; average: every view, "
-                   "the reference too, takes the average colour profile of all views.")
+                   "the reference too, takes the average colour profile of all views; chart: "
+                   "every view takes the reference colours of the ColorChecker it shows.")
+@click.option("--chart-reference", type=click.Path(dir_okay=False), default=None,
+              help="With --target chart: the chart's reference values, colour-science's "
+                   "CCS_COLOURCHECKERS JSON file.")
+@click.option("--chart-name", default=DEFAULT_CHART, show_default=True,
+              help="The chart's entry in --chart-reference.")
+@click.option("--chart-corners", "chart_corners", multiple=True, nargs=2,
+              metavar="NAME X,Y,X,Y,X,Y,X,Y",
+              help="Corners of the chart's patch area in a view (top-left, top-right, "
+                   "bottom-right, bottom-left of the upright chart); without, the chart is "
+                   "detected.")
+@click.option("--chart-model", type=click.Choice(("3x3", "4x3")), default="3x3",
+              show_default=True,
+              help="The colour matrix: linear (3x3) or affine (4x3), after a per-channel "
+                   "tone curve fitted to the chart's grey patches.")
 @click.option("--cameras", "camera_file", type=click.Path(dir_okay=False), default=None,
               help="Camera parameter file (MPEG text or JSON). With --depth, tables come from "
                    "the pixels that show the same scene point in both views; without, the "
@@ -59,8 +79,9 @@ LOG = logging.getLogger("mvtools")
 @frame_range_options
 @transposed_rotation_option
 @program
-def command(views, reference, target, camera_file, depths, depth_range, space, estimate_frames,
-            out_dir, size, pix_fmt, start_frame, frame_count, transposed_rotation):
+def command(views, reference, target, chart_reference, chart_name, chart_corners, chart_model,
+            camera_file, depths, depth_range, space, estimate_frames, out_dir, size, pix_fmt,
+            start_frame, frame_count, transposed_rotation):
     """Per-channel look-up tables that make the views' colours agree (seed eq. 1.18),
     estimated from pixels that project onto each other (given cameras and depth maps)
     or else by cumulative-histogram matching, then applied to every frame.
@@ -71,8 +92,19 @@ def command(views, reference, target, camera_file, depths, depth_range, space, e
     names = [name for name, _ in views]
     if len(set(names)) != len(names):
         raise UsageError(f"a view is given twice ({', '.join(names)})")
+    out = Path(out_dir)
+    targets = {name: out / Path(path).name for name, path in views}
+    for name, path in views:
+        if targets[name].resolve() == Path(path).resolve():
+            raise UsageError("the output would overwrite the input: choose another --out-dir",
+                             path=path)
+    if target == "chart":
+        _correct_to_chart(views, targets, chart_reference, chart_name, dict(chart_corners),
+                          chart_model, space, estimate_frames, size, pix_fmt, start_frame,
+                          frame_count)
+        return
     if len(views) < 2:
-        raise UsageError("colour correction needs at least two views")
+        raise UsageError("colour correction needs at least two views (or --target chart)")
     reference_index = names.index(reference) if reference in names else len(names) // 2
     if reference is not None and reference not in names:
         raise UsageError(f"--reference {reference}: no such view (views: {', '.join(names)})")
@@ -81,12 +113,6 @@ def command(views, reference, target, camera_file, depths, depth_range, space, e
     if unknown:
         raise UsageError(f"--depth {unknown[0]}: no such view (views: {', '.join(names)})")
     cameras = _cameras(camera_file, depth_of, names, transposed_rotation)
-    out = Path(out_dir)
-    targets = {name: out / Path(path).name for name, path in views}
-    for name, path in views:
-        if targets[name].resolve() == Path(path).resolve():
-            raise UsageError("the output would overwrite the input: choose another --out-dir",
-                             path=path)
     with contextlib.ExitStack() as stack:
         videos = [stack.enter_context(open_input_video(path, size, pix_fmt)) for _, path in views]
         fmt = _common_format(videos, names)
@@ -99,14 +125,10 @@ def command(views, reference, target, camera_file, depths, depth_range, space, e
         samples, method = matcher.samples(videos, estimation)
         tables = view_tables(samples, reference_index, target=target, method=method,
                              levels=2 ** fmt.bits)
-        out.mkdir(parents=True, exist_ok=True)
-        progress = Progress(len(frames) * len(views), "frames corrected")
-        for name, video, table in zip(names, videos, tables):
-            with open_writer(targets[name], fmt) as writer:
-                for index in frames:
-                    writer.write(correct_planes(video.read(index), table, bits=fmt.bits,
-                                                space=space, chroma=fmt.chroma))
-                    progress.advance()
+        _write_corrected(names, videos, targets, frames, fmt,
+                         [lambda planes, table=table: correct_planes(
+                             planes, table, bits=fmt.bits, space=space, chroma=fmt.chroma)
+                          for table in tables])
         channels = channel_names(space, len(fmt.plane_shapes))
         for name, table in zip(names, tables):
             write_lut(out / f"{name}.lut.txt", table, channels=channels)
@@ -114,6 +136,86 @@ def command(views, reference, target, camera_file, depths, depth_range, space, e
                 write_cube(out / f"{name}.cube", table, max_value=2 ** fmt.bits - 1,
                            title=f"mvtools colorcorrect {name} ({space})")
         click.echo(matcher.summary(videos, tables, estimation[0]))
+
+
+def _write_corrected(names, videos, targets, frames, fmt, corrections) -> None:
+    """Every frame of every view through its correction, one frame at a time."""
+    next(iter(targets.values())).parent.mkdir(parents=True, exist_ok=True)
+    progress = Progress(len(frames) * len(videos), "frames corrected")
+    for name, video, correct in zip(names, videos, corrections):
+        with open_writer(targets[name], fmt) as writer:
+            for index in frames:
+                writer.write(correct(video.read(index)))
+                progress.advance()
+
+
+def _parse_corners(name: str, text: str) -> np.ndarray:
+    try:
+        values = [float(value) for value in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 8:
+        raise UsageError(f"--chart-corners {name} {text}: give eight numbers X,Y,X,Y,X,Y,X,Y")
+    return np.array(values).reshape(4, 2)
+
+
+def _correct_to_chart(views, targets, chart_reference, chart_name, corners_of, model, space,
+                      estimate_frames, size, pix_fmt, start_frame, frame_count) -> None:
+    """Each view on its own to the reference colours of the ColorChecker it shows."""
+    if chart_reference is None:
+        raise UsageError("--target chart needs --chart-reference: colour-science's "
+                         "CCS_COLOURCHECKERS JSON file of reference values")
+    if space != "rgb":
+        raise UsageError("--target chart corrects RGB: leave --space at rgb")
+    names = [name for name, _ in views]
+    unknown = sorted(set(corners_of) - set(names))
+    if unknown:
+        raise UsageError(f"--chart-corners {unknown[0]}: no such view (views: {', '.join(names)})")
+    corners_of = {name: _parse_corners(name, text) for name, text in corners_of.items()}
+    chart = read_colorchecker(chart_reference, chart=chart_name)
+    with contextlib.ExitStack() as stack:
+        videos = [stack.enter_context(open_input_video(path, size, pix_fmt)) for _, path in views]
+        fmt = _common_format(videos, names)
+        if fmt.chroma == "400":
+            raise DataError(f"{videos[0].path}: a chart needs colour views, not grey ones")
+        frames = frame_range(videos, start_frame, frame_count)
+        top = 2 ** fmt.bits - 1
+        corrections, lines = [], [f"{'view':12s} {'patches':>8s} {'mean dE00 before':>17s} "
+                                  f"{'after':>7s} {'max after':>10s}"]
+        for name, video in zip(names, videos):
+            pictures = [yuv_to_rgb(video.read(index), bits=fmt.bits)
+                        for index in frames[:estimate_frames]]
+            corners = corners_of.get(name)
+            if corners is None:
+                corners = detect_chart(pictures[0])
+                if corners is None:
+                    raise DataError(f"view {name}: no ColorChecker found in frame "
+                                    f"{frames[0]}; give its corners with --chart-corners",
+                                    path=video.path)
+                LOG.info("%s: chart found at %s", name, np.round(corners, 1).tolist())
+            measured = np.mean([sample_patches(picture, corners) for picture in pictures],
+                               axis=0) / top
+            correction = fit_chart_correction(measured, chart.lab, linearization="grey-curve",
+                                              model=model, white=chart.white_xyz)
+            before = delta_e_2000(linear_rgb_to_lab(srgb_to_linear(measured),
+                                                    white=chart.white_xyz), chart.lab)
+            lines.append(f"{name:12s} {int(correction.used.sum()):8d} {before.mean():17.2f} "
+                         f"{correction.delta_e.mean():7.2f} {correction.delta_e.max():10.2f}")
+            corrections.append(correction)
+        _write_corrected(names, videos, targets, frames, fmt,
+                         [lambda planes, correction=correction: rgb_to_yuv(
+                             np.round(correction.apply(yuv_to_rgb(planes, bits=fmt.bits) / top)
+                                      * top).astype(fmt.dtype), chroma=fmt.chroma, bits=fmt.bits)
+                          for correction in corrections])
+    out = next(iter(targets.values())).parent
+    grid = np.linspace(0.0, 1.0, 33)
+    blue, green, red = np.meshgrid(grid, grid, grid, indexing="ij")
+    for name, correction in zip(names, corrections):
+        write_lut(out / f"{name}.lut.txt", correction.curve * top, channels=("R", "G", "B"))
+        write_matrix(out / f"{name}.ccm.txt", correction.matrix)
+        write_cube(out / f"{name}.cube", correction.apply(np.stack([red, green, blue], -1)),
+                   max_value=1.0, title=f"mvtools colorcorrect {name} (chart)")
+    click.echo("\n".join(lines))
 
 
 def _cameras(camera_file, depth_of, names, transposed_rotation):

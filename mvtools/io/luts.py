@@ -8,6 +8,9 @@ the corrected value of every channel, with ``#`` comments naming the channels::
     1 2.250 0.981 4.102
     ...
 
+Colour matrices (``read_matrix``/``write_matrix``) hold three (linear) or four (affine)
+rows of three numbers, row-vector convention: ``corrected = [r, g, b(, 1)] @ matrix``.
+
 ``.cube`` files (Adobe/Resolve, read by colour tools and ffmpeg's ``lut1d``/``lut3d``
 filters) hold values normalised to 0..1: ``LUT_1D_SIZE`` tables (one line per entry,
 one value per channel) or a ``LUT_3D_SIZE`` cube (red varying fastest).
@@ -24,7 +27,7 @@ from mvtools.errors import ConfigError
 from mvtools.io.atomic import atomic_output
 from mvtools.io.files import read_text
 
-__all__ = ["read_lut", "write_lut", "read_cube", "write_cube"]
+__all__ = ["read_lut", "write_lut", "read_cube", "write_cube", "read_matrix", "write_matrix"]
 
 
 def write_lut(path: str | os.PathLike, table: np.ndarray, *, channels: tuple[str, ...]) -> None:
@@ -158,3 +161,41 @@ def read_cube(path: str | os.PathLike) -> np.ndarray:
         raise ConfigError(f"{len(rows)} entries where the size asks for {expected}", path=path)
     rows = np.array(rows)
     return rows.reshape(size, size, size, 3) if three_d else rows.T
+
+
+def write_matrix(path: str | os.PathLike, matrix: np.ndarray) -> None:
+    """Write a (3, 3) or (4, 3) colour matrix as text, atomically."""
+    matrix = np.asarray(matrix, dtype=np.float64)
+    if matrix.shape not in ((3, 3), (4, 3)):
+        raise ValueError(f"a colour matrix is (3, 3) or (4, 3), got {matrix.shape}")
+    lines = ["# mvtools colour matrix, row vectors: corrected linear RGB = "
+             + ("[r g b] @ M" if matrix.shape[0] == 3 else "[r g b 1] @ M")]
+    lines += [" ".join(f"{value:.9f}" for value in row) for row in matrix]
+    with atomic_output(path, "w") as handle:
+        handle.write("\n".join(lines) + "\n")
+
+
+def read_matrix(path: str | os.PathLike) -> np.ndarray:
+    """Read a colour matrix written by :func:`write_matrix`: shape (3, 3) or (4, 3).
+
+    Raises
+    ------
+    ConfigError
+        A row that is not three numbers, or not three or four rows.
+    """
+    path = Path(path)
+    rows = []
+    for number, line in enumerate(read_text(path, "colour matrix").splitlines(), start=1):
+        text = line.split("#", 1)[0].strip()
+        if not text:
+            continue
+        try:
+            values = [float(field) for field in text.split()]
+        except ValueError:
+            values = []
+        if len(values) != 3:
+            raise ConfigError(f"expected three numbers, got {text!r}", path=path, line=number)
+        rows.append(values)
+    if len(rows) not in (3, 4):
+        raise ConfigError(f"a colour matrix has 3 or 4 rows, got {len(rows)}", path=path)
+    return np.array(rows)
