@@ -5,8 +5,8 @@ from __future__ import annotations
 import click
 
 from mvtools import __version__
-from mvtools.cli import (calibrate, colorcorrect, convert, estimate_depth, evaluate, inspect,
-                         pack, rectify, scene, synthesize)
+from mvtools.cli import (bitrate, calibrate, colorcorrect, convert, encode, estimate_depth,
+                         evaluate, inspect, pack, rectify, scene, synthesize)
 
 PROGRAMS: dict[str, click.Command] = {
     "evaluate": evaluate.command,
@@ -19,6 +19,8 @@ PROGRAMS: dict[str, click.Command] = {
     "rectify": rectify.command,
     "colorcorrect": colorcorrect.command,
     "pack": pack.command,
+    "encode": encode.command,
+    "bitrate": bitrate.command,
 }
 
 
@@ -45,6 +47,8 @@ def _standalone(name: str):
 calibrate_cli = _standalone("calibrate")
 rectify_cli = _standalone("rectify")
 colorcorrect_cli = _standalone("colorcorrect")
+encode_cli = _standalone("encode")
+bitrate_cli = _standalone("bitrate")
 estimate_depth_cli = _standalone("estimate-depth")
 synthesize_cli = _standalone("synthesize")
 pack_cli = _standalone("pack")
