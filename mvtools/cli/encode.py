@@ -287,6 +287,14 @@ def _table(report: dict) -> str:
                          f"{point['mean_texture_yuv_psnr']:8.2f}"
                          + (f"  {synthesis['y_psnr']:.2f} / {synthesis['iv_psnr']:.2f}"
                             if synthesis else ""))
+    lines.append("per stream, Y-PSNR / YUV-PSNR (dB):")
+    for mode, points in report["modes"].items():
+        for point in points:
+            streams = "  ".join(
+                f"{name} {score['y_psnr']:.2f}"
+                + (f"/{score['yuv_psnr']:.2f}" if score["yuv_psnr"] is not None else "")
+                for name, score in point["scores"].items())
+            lines.append(f"  {mode:10s} QP {point['qp']:2d}  {streams}")
     for method, deltas in report.get("bjontegaard", {}).items():
         lines.append(f"packed against simulcast ({method}): BD-rate "
                      f"{deltas['bd_rate_percent']:+.2f} %, BD-PSNR {deltas['bd_psnr_db']:+.3f} dB "
