@@ -308,8 +308,7 @@ class _Matcher:
         the scene, or without depth the difference of the mean codes."""
         reference_name = self.names[self.reference]
         by_name = dict(zip(self.names, videos))
-        reference = working_codes(by_name[reference_name].read(index), bits=self.fmt.bits,
-                                  space="yuv")[..., 0]
+        reference = np.asarray(by_name[reference_name].read(index)[0])
         lines = [f"{'view':12s} {'method':16s} before   after"]
         for name, table in zip(self.names, tables):
             planes = by_name[name].read(index)

@@ -17,13 +17,14 @@ import numpy as np
 from mvtools.cli.configs import load_config
 from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import ProgramCommand, frame_range_options, program, video_format_options
+from mvtools.cli.pack import write_packed, write_unpacked
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import atomic_output
 from mvtools.io.encoders import ENCODERS, decode_hevc, encode_hevc, program_path
 from mvtools.io.yuv import YuvFormat, open_video, open_writer
 from mvtools.metrics import bd_psnr, bd_rate, iv_psnr, plane_psnr, yuv_psnr
-from mvtools.pack import pack_frame, plan_layout, unpack_frame
+from mvtools.pack import plan_layout
 from mvtools.params import VsrsParams, param_specs
 
 LOG = logging.getLogger("mvtools")
@@ -162,23 +163,15 @@ def _packed(originals, folder, *, qp, depth_qp_offset, encoder, preset, fps, fra
     with contextlib.ExitStack() as stack:
         readers = {key: stack.enter_context(open_video(path, fmt))
                    for key, (path, fmt) in originals.items()}
-        with open_writer(packed, packed_format) as writer:
-            for index in range(frames):
-                writer.write(pack_frame(layout, {key: reader.read(index)
-                                                 for key, reader in readers.items()},
-                                        chroma=packed_format.chroma, bits=packed_format.bits))
+        with write_packed(readers, layout, packed_format, packed, range(frames)):
+            pass
     (folder / "decoded").mkdir(exist_ok=True)
     size, decoded_packed = _code(packed, packed_format, folder / "decoded", qp=qp,
                                  encoder=encoder, preset=preset, fps=fps)
-    with open_video(decoded_packed, packed_format) as video, contextlib.ExitStack() as stack:
-        writers = {key: stack.enter_context(open_writer(folder / path.name, fmt))
-                   for key, (path, fmt) in originals.items()}
-        for index in range(frames):
-            views = unpack_frame(layout, video.read(index), chroma=packed_format.chroma,
-                                 depth_planes=3 if packed_format.chroma != "400" else 1)
-            for key, writer in writers.items():
-                writer.write(views[key][:len(writer.format.plane_shapes)])
-        decoded = {key: folder / path.name for key, (path, _) in originals.items()}
+    targets = {key: (folder / path.name, fmt) for key, (path, fmt) in originals.items()}
+    with open_video(decoded_packed, packed_format) as video:
+        write_unpacked(video, layout, targets, range(frames))
+    decoded = {key: path for key, (path, _) in targets.items()}
     rate = size * 8 / (frames / fps) / 1000
     return {"kbps": rate, "texture_kbps": None, "depth_kbps": None, "decoded": decoded}
 

@@ -95,13 +95,7 @@ def _pack(views, depths, layout_kind, half, columns, block, frame_size, output, 
             raise UsageError(str(error)) from None
         packed_format = YuvFormat(layout.width, layout.height, chroma=fmt.chroma, bits=fmt.bits)
         frames = frame_range(list(videos.values()), start_frame, frame_count)
-        progress = Progress(len(frames), "frames packed")
-        with open_writer(output, packed_format) as writer:
-            for index in frames:
-                writer.write(pack_frame(layout, {key: video.read(index)
-                                                 for key, video in videos.items()},
-                                        chroma=fmt.chroma, bits=fmt.bits))
-                progress.advance()
+        with write_packed(videos, layout, packed_format, output, frames):
             write_sidecar(sidecar, PackedVideo(
                 layout=layout, pix_fmt=packed_format.pix_fmt, frames=len(frames),
                 files={(name, kind): Path(path).name for name, kind, path in entries},
@@ -150,21 +144,40 @@ def _unpack(packed_path: Path, sidecar: Path | None, out: Path, size, start_fram
                             path=packed_path)
         frames = frame_range([video], start_frame, frame_count)
         out.mkdir(parents=True, exist_ok=True)
-        with contextlib.ExitStack() as stack:
-            writers = {}
-            for placement in layout.placements:
-                key = (placement.name, placement.kind)
-                view_format = YuvFormat.from_pix_fmt(placement.source_width,
-                                                     placement.source_height, packed.pix_fmts[key])
-                writers[key] = stack.enter_context(open_writer(out / packed.files[key],
-                                                               view_format))
-            depth_planes = {key: 1 if writer.format.chroma == "400" else 3
-                            for key, writer in writers.items()}
-            progress = Progress(len(frames), "frames unpacked")
-            for index in frames:
-                restored = unpack_frame(layout, video.read(index), chroma=fmt.chroma,
-                                        depth_planes=1 if fmt.chroma == "400" else 3)
-                for key, planes in restored.items():
-                    writers[key].write(planes[:depth_planes[key]] if key[1] == "depth"
-                                       else planes)
-                progress.advance()
+        targets = {}
+        for placement in layout.placements:
+            key = (placement.name, placement.kind)
+            targets[key] = (out / packed.files[key],
+                            YuvFormat.from_pix_fmt(placement.source_width,
+                                                   placement.source_height, packed.pix_fmts[key]))
+        write_unpacked(video, layout, targets, frames)
+
+
+@contextlib.contextmanager
+def write_packed(videos, layout, packed_format: YuvFormat, output: Path, frames):
+    """Pack ``frames`` of the ``videos`` (by (name, kind)) into ``output``; the file
+    appears when the block that follows (e.g. writing the sidecar) ends without error."""
+    progress = Progress(len(frames), "frames packed")
+    with open_writer(output, packed_format) as writer:
+        for index in frames:
+            writer.write(pack_frame(layout, {key: video.read(index)
+                                             for key, video in videos.items()},
+                                    chroma=packed_format.chroma, bits=packed_format.bits))
+            progress.advance()
+        yield
+
+
+def write_unpacked(video, layout, targets, frames) -> None:
+    """Every view of ``frames`` of a packed ``video`` to its ``targets[(name, kind)]``,
+    a (path, format) pair; depth maps get chroma planes when their format has them."""
+    chroma = video.format.chroma
+    with contextlib.ExitStack() as stack:
+        writers = {key: stack.enter_context(open_writer(path, fmt))
+                   for key, (path, fmt) in targets.items()}
+        progress = Progress(len(frames), "frames unpacked")
+        for index in frames:
+            restored = unpack_frame(layout, video.read(index), chroma=chroma,
+                                    depth_planes=1 if chroma == "400" else 3)
+            for key, writer in writers.items():
+                writer.write(restored[key][:len(writer.format.plane_shapes)])
+            progress.advance()
