@@ -20,10 +20,12 @@ from mvtools.color.chart import (delta_e_2000, detect_chart, fit_chart_correctio
 from mvtools.color.correct import (SPACES, TARGETS, channel_names, correct_planes, view_tables,
                                    working_codes)
 from mvtools.color.correspondence import common_view, corresponding_samples, warp_to_target
+from mvtools.color.lut import apply_lut
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import depth_to_z
 from mvtools.io.cameras import get_camera
 from mvtools.io.color_charts import DEFAULT_CHART, read_colorchecker
+from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.luts import write_cube, write_lut, write_matrix
 from mvtools.io.yuv import open_writer
@@ -112,6 +114,13 @@ def command(views, reference, target, chart_reference, chart_name, chart_corners
     unknown = sorted(set(depth_of) - set(names))
     if unknown:
         raise UsageError(f"--depth {unknown[0]}: no such view (views: {', '.join(names)})")
+    images = [Path(path).suffix.lower() in IMAGE_EXTENSIONS for _, path in views]
+    if any(images):
+        if not all(images) or depth_of or camera_file:
+            raise UsageError("views given as images are matched by their histograms: give "
+                             "only images, without --depth and --cameras")
+        _correct_images(views, targets, reference_index, target)
+        return
     cameras = _cameras(camera_file, depth_of, names, transposed_rotation)
     with contextlib.ExitStack() as stack:
         videos = [stack.enter_context(open_input_video(path, size, pix_fmt)) for _, path in views]
@@ -136,6 +145,33 @@ def command(views, reference, target, chart_reference, chart_name, chart_corners
                 write_cube(out / f"{name}.cube", table, max_value=2 ** fmt.bits - 1,
                            title=f"mvtools colorcorrect {name} ({space})")
         click.echo(matcher.summary(videos, tables, estimation[0]))
+
+
+def _correct_images(views, targets, reference_index, target) -> None:
+    """Pictures (a stereo pair's PNGs, say): RGB tables from the cumulative histograms."""
+    names = [name for name, _ in views]
+    pictures = [read_image(path) for _, path in views]
+    for (name, path), picture in zip(views, pictures):
+        if picture.ndim != 3 or picture.dtype != np.uint8:
+            raise DataError(f"view {name} is not an 8-bit colour picture ({picture.dtype}, "
+                            f"shape {picture.shape})", path=path)
+        _check_not_constant(picture, name, path)
+    reference = pictures[reference_index].reshape(-1, 3)
+    samples = [None if index == reference_index else (picture.reshape(-1, 3), reference)
+               for index, picture in enumerate(pictures)]
+    tables = view_tables(samples, reference_index, target=target, method="histograms")
+    next(iter(targets.values())).parent.mkdir(parents=True, exist_ok=True)
+    lines = [f"{'view':12s} mean RGB difference to {names[reference_index]}: before   after"]
+    for (name, _), picture, table in zip(views, pictures, tables):
+        corrected = np.stack([apply_lut(picture[..., c], table[c]) for c in range(3)], axis=-1)
+        write_image(targets[name], corrected)
+        write_lut(targets[name].parent / f"{name}.lut.txt", table, channels=("R", "G", "B"))
+        write_cube(targets[name].parent / f"{name}.cube", table, max_value=255,
+                   title=f"mvtools colorcorrect {name} (rgb)")
+        before, after = (float(np.abs(image.reshape(-1, 3).mean(0) - reference.mean(0)).mean())
+                         for image in (picture, corrected))
+        lines.append(f"{name:12s} {'':>33s}{before:7.2f} {after:7.2f}")
+    click.echo("\n".join(lines))
 
 
 def _write_corrected(names, videos, targets, frames, fmt, corrections) -> None:
