@@ -45,34 +45,61 @@ demo: install
 # colour mismatch): calibrate the sample rig from its checkerboard captures, rectify the
 # array, correct its colours to camera 2, estimate the depth of cameras 1 and 3 from their
 # neighbours, synthesize camera 2 from them in 1D mode, score it against the real one,
-# and pack views and depth maps into one atlas.
+# and pack views and depth maps into one atlas. Every step is a file target: re-running
+# redoes only what changed, and `make -j2 chain` estimates both depth maps at once.
 CHAIN := $(DEMO)/chain
+RECTIFIED := $(CHAIN)/rectified
+CORRECTED := $(CHAIN)/corrected
 DISTORTED := sample_data/distorted
 CAMS := 0 1 2 3 4
-chain: install
-	mkdir -p $(CHAIN)
+texture = v$(1)_texture_$(VIEW)
+BOARDS := $(wildcard sample_data/checkerboard/cam*/capture*.png)
+
+$(CHAIN)/calibrated_rig.txt: $(BOARDS) | install
+	mkdir -p $(@D)
 	$(BIN)/mvtools calibrate $(foreach c,$(CAMS),sample_data/checkerboard/cam$(c)) --board 9x6 \
-	    --square 0.05 -o $(CHAIN)/calibrated_rig.txt --report $(CHAIN)/calibration
-	$(BIN)/mvtools rectify $(DISTORTED)/cameras.txt -o $(CHAIN)/rectified \
-	    $(foreach c,$(CAMS),--texture cam$(c) $(DISTORTED)/v$(c)_texture_$(VIEW))
-	$(BIN)/mvtools colorcorrect --reference cam2 --cameras $(CHAIN)/rectified/cameras.txt \
-	    --depth-range 2 13 -o $(CHAIN)/corrected \
-	    $(foreach c,$(CAMS),--view cam$(c) $(CHAIN)/rectified/v$(c)_texture_$(VIEW))
-	$(foreach c,1 3,$(BIN)/mvtools estimate-depth $(LINE)/depth_cam2.cfg \
-	    FileCameraParameter=$(CHAIN)/rectified/cameras.txt LeftCameraName=cam$(shell expr $(c) - 1) \
-	    CenterCameraName=cam$(c) RightCameraName=cam$(shell expr $(c) + 1) \
-	    FileLeftViewImage=$(CHAIN)/corrected/v$(shell expr $(c) - 1)_texture_$(VIEW) \
-	    FileCenterViewImage=$(CHAIN)/corrected/v$(c)_texture_$(VIEW) \
-	    FileRightViewImage=$(CHAIN)/corrected/v$(shell expr $(c) + 1)_texture_$(VIEW) \
-	    FileOutputDepthMapImage=$(CHAIN)/estimated_v$(c)_depth_$(VIEW) &&) true
-	$(BIN)/mvtools synthesize $(LINE)/synthesize_cam2.cfg CameraParameterFile=$(CHAIN)/rectified/cameras.txt \
-	    LeftViewImageName=$(CHAIN)/corrected/v1_texture_$(VIEW) RightViewImageName=$(CHAIN)/corrected/v3_texture_$(VIEW) \
+	    --square 0.05 -o $@ --report $(CHAIN)/calibration
+
+$(foreach c,$(CAMS),$(RECTIFIED)/$(call texture,$(c))) $(RECTIFIED)/cameras.txt &: \
+		$(DISTORTED)/cameras.txt $(foreach c,$(CAMS),$(DISTORTED)/$(call texture,$(c))) | install
+	$(BIN)/mvtools rectify $(DISTORTED)/cameras.txt -o $(RECTIFIED) \
+	    $(foreach c,$(CAMS),--texture cam$(c) $(DISTORTED)/$(call texture,$(c)))
+
+$(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) $(CORRECTED)/cam$(c).lut.txt) &: \
+		$(RECTIFIED)/cameras.txt $(foreach c,$(CAMS),$(RECTIFIED)/$(call texture,$(c)))
+	$(BIN)/mvtools colorcorrect --reference cam2 --cameras $(RECTIFIED)/cameras.txt \
+	    --depth-range 2 13 -o $(CORRECTED) \
+	    $(foreach c,$(CAMS),--view cam$(c) $(RECTIFIED)/$(call texture,$(c)))
+
+# the depth of camera N from cameras N-1 and N+1, with the sample line's DERS configuration
+$(CHAIN)/estimated_v%_depth_$(VIEW): $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c))) \
+		$(LINE)/depth_cam2.cfg
+	left=$$(($* - 1)); right=$$(($* + 1)); \
+	$(BIN)/mvtools estimate-depth $(LINE)/depth_cam2.cfg FileCameraParameter=$(RECTIFIED)/cameras.txt \
+	    LeftCameraName=cam$$left CenterCameraName=cam$* RightCameraName=cam$$right \
+	    FileLeftViewImage=$(CORRECTED)/v$${left}_texture_$(VIEW) \
+	    FileCenterViewImage=$(CORRECTED)/$(call texture,$*) \
+	    FileRightViewImage=$(CORRECTED)/v$${right}_texture_$(VIEW) FileOutputDepthMapImage=$@
+
+$(CHAIN)/synthesized_v2_$(VIEW): $(CHAIN)/estimated_v1_depth_$(VIEW) $(CHAIN)/estimated_v3_depth_$(VIEW) \
+		$(LINE)/synthesize_cam2.cfg
+	$(BIN)/mvtools synthesize $(LINE)/synthesize_cam2.cfg CameraParameterFile=$(RECTIFIED)/cameras.txt \
+	    LeftViewImageName=$(CORRECTED)/$(call texture,1) RightViewImageName=$(CORRECTED)/$(call texture,3) \
 	    LeftDepthMapName=$(CHAIN)/estimated_v1_depth_$(VIEW) RightDepthMapName=$(CHAIN)/estimated_v3_depth_$(VIEW) \
-	    -o $(CHAIN)/synthesized_v2_$(VIEW)
-	$(BIN)/mvtools evaluate $(CHAIN)/corrected/v2_texture_$(VIEW) $(CHAIN)/synthesized_v2_$(VIEW)
-	$(BIN)/mvtools pack --layout atlas -o $(CHAIN)/atlas.yuv \
-	    $(foreach c,1 2 3,--view cam$(c) $(CHAIN)/corrected/v$(c)_texture_$(VIEW)) \
+	    -o $@
+
+$(CHAIN)/synthesized_v2.scores: $(CHAIN)/synthesized_v2_$(VIEW)
+	$(BIN)/mvtools evaluate $(CORRECTED)/$(call texture,2) $< > $@
+
+$(CHAIN)/atlas.yuv: $(foreach c,1 2 3,$(CORRECTED)/$(call texture,$(c))) \
+		$(CHAIN)/estimated_v1_depth_$(VIEW) $(CHAIN)/estimated_v3_depth_$(VIEW)
+	$(BIN)/mvtools pack --layout atlas -o $@ \
+	    $(foreach c,1 2 3,--view cam$(c) $(CORRECTED)/$(call texture,$(c))) \
 	    $(foreach c,1 3,--depth cam$(c) $(CHAIN)/estimated_v$(c)_depth_$(VIEW))
+
+chain: $(CHAIN)/calibrated_rig.txt $(CHAIN)/synthesized_v2.scores $(CHAIN)/atlas.yuv
+	@echo "camera 2 synthesized from the rectified, colour-corrected cameras 1 and 3 and their estimated depth:"
+	@cat $(CHAIN)/synthesized_v2.scores
 	$(BIN)/mvtools bitrate --size 1920x1080 --fps 25 --views 9
 
 test: install
