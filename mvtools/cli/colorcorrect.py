@@ -73,7 +73,11 @@ LOG = logging.getLogger("mvtools")
               help="Channels the tables work on: RGB (a camera's response is per sensor "
                    "channel) or the Y, U, V planes as they are (no resampling of chroma).")
 @click.option("--estimate-frames", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Frames, from the first one processed, whose samples estimate the tables.")
+              help="Frames whose samples estimate the tables.")
+@click.option("--estimate-from", type=click.IntRange(min=0), default=None,
+              help="First of those frames (default: the first frame processed). Chunks of a "
+                   "sequence corrected in parallel give one run's bytes when they all estimate "
+                   "from the same frames.")
 @click.option("-o", "--out-dir", required=True, type=click.Path(file_okay=False),
               help="Folder for the corrected videos (named as their inputs) and each view's "
                    "tables, NAME.lut.txt and NAME.cube.")
@@ -82,8 +86,8 @@ LOG = logging.getLogger("mvtools")
 @transposed_rotation_option
 @program
 def command(views, reference, target, chart_reference, chart_name, chart_corners, chart_model,
-            camera_file, depths, depth_range, space, estimate_frames, out_dir, size, pix_fmt,
-            start_frame, frame_count, transposed_rotation):
+            camera_file, depths, depth_range, space, estimate_frames, estimate_from, out_dir,
+            size, pix_fmt, start_frame, frame_count, transposed_rotation):
     """Per-channel look-up tables that make the views' colours agree (seed eq. 1.18),
     estimated from pixels that project onto each other (given cameras and depth maps)
     or else by cumulative-histogram matching, then applied to every frame.
@@ -102,8 +106,8 @@ def command(views, reference, target, chart_reference, chart_name, chart_corners
                              path=path)
     if target == "chart":
         _correct_to_chart(views, targets, chart_reference, chart_name, dict(chart_corners),
-                          chart_model, space, estimate_frames, size, pix_fmt, start_frame,
-                          frame_count)
+                          chart_model, space, estimate_frames, estimate_from, size, pix_fmt,
+                          start_frame, frame_count)
         return
     if len(views) < 2:
         raise UsageError("colour correction needs at least two views (or --target chart)")
@@ -128,7 +132,7 @@ def command(views, reference, target, chart_reference, chart_name, chart_corners
         depth_videos = {name: stack.enter_context(open_input_video(path, size, pix_fmt))
                         for name, path in depth_of.items()}
         frames = frame_range(videos + list(depth_videos.values()), start_frame, frame_count)
-        estimation = frames[:estimate_frames]
+        estimation = _estimation_frames(videos, frames, estimate_from, estimate_frames)
         matcher = _Matcher(names, reference_index, cameras, depth_videos, depth_range, fmt,
                            space)
         samples, method = matcher.samples(videos, estimation)
@@ -174,6 +178,16 @@ def _correct_images(views, targets, reference_index, target) -> None:
     click.echo("\n".join(lines))
 
 
+def _estimation_frames(videos, frames: range, start: int | None, count: int) -> range:
+    """The frames whose samples estimate the tables: ``count`` from ``start`` (default
+    the first frame processed), within what every video holds."""
+    start = frames.start if start is None else start
+    stop = min(start + count, min(len(video) for video in videos))
+    if start >= stop:
+        raise UsageError(f"--estimate-from {start} is past the end: the views have {stop} frames")
+    return range(start, stop)
+
+
 def _write_corrected(names, videos, targets, frames, fmt, corrections) -> None:
     """Every frame of every view through its correction, one frame at a time."""
     next(iter(targets.values())).parent.mkdir(parents=True, exist_ok=True)
@@ -196,7 +210,8 @@ def _parse_corners(name: str, text: str) -> np.ndarray:
 
 
 def _correct_to_chart(views, targets, chart_reference, chart_name, corners_of, model, space,
-                      estimate_frames, size, pix_fmt, start_frame, frame_count) -> None:
+                      estimate_frames, estimate_from, size, pix_fmt, start_frame,
+                      frame_count) -> None:
     """Each view on its own to the reference colours of the ColorChecker it shows."""
     if chart_reference is None:
         raise UsageError("--target chart needs --chart-reference: colour-science's "
@@ -215,18 +230,18 @@ def _correct_to_chart(views, targets, chart_reference, chart_name, corners_of, m
         if fmt.chroma == "400":
             raise DataError(f"{videos[0].path}: a chart needs colour views, not grey ones")
         frames = frame_range(videos, start_frame, frame_count)
+        estimation = _estimation_frames(videos, frames, estimate_from, estimate_frames)
         top = 2 ** fmt.bits - 1
         corrections, lines = [], [f"{'view':12s} {'patches':>8s} {'mean dE00 before':>17s} "
                                   f"{'after':>7s} {'max after':>10s}"]
         for name, video in zip(names, videos):
-            pictures = [yuv_to_rgb(video.read(index), bits=fmt.bits)
-                        for index in frames[:estimate_frames]]
+            pictures = [yuv_to_rgb(video.read(index), bits=fmt.bits) for index in estimation]
             corners = corners_of.get(name)
             if corners is None:
                 corners = detect_chart(pictures[0])
                 if corners is None:
                     raise DataError(f"view {name}: no ColorChecker found in frame "
-                                    f"{frames[0]}; give its corners with --chart-corners",
+                                    f"{estimation[0]}; give its corners with --chart-corners",
                                     path=video.path)
                 LOG.info("%s: chart found at %s", name, np.round(corners, 1).tolist())
             measured = np.mean([sample_patches(picture, corners) for picture in pictures],
