@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 BUILD ?= build
 
 .DELETE_ON_ERROR:
-.PHONY: install sample demo chain test bench clean
+.PHONY: install sample demo chain published test bench clean
 
 install: $(VENV)/.installed
 
@@ -101,6 +101,78 @@ chain: $(CHAIN)/calibrated_rig.txt $(CHAIN)/synthesized_v2.scores $(CHAIN)/atlas
 	@echo "camera 2 synthesized from the rectified, colour-corrected cameras 1 and 3 and their estimated depth:"
 	@cat $(CHAIN)/synthesized_v2.scores
 	$(BIN)/mvtools bitrate --size 1920x1080 --fps 25 --views 9
+
+# Published material (../shared/data, or DATA=...): depth estimated for the two outer views
+# of a Middlebury triple from that pair, the middle view synthesized from them (1D mode)
+# and scored against the real one; and Kendo's camera 2 synthesized from cameras 1 and 3
+# with the configuration shipped with the sequence (no real camera 2 is shipped to score).
+DATA ?= ../shared/data
+PUBLISHED := $(BUILD)/published
+MIDDLEBURY := configs/middlebury
+
+# $(1) case, $(2) its folder, $(3) left, middle, right picture names, $(4) disparities,
+# $(5) focal * baseline of the outer pair, $(6) WxH
+define middlebury_case
+$(1)_left := $(word 1,$(3))
+$(1)_middle := $(word 2,$(3))
+$(1)_right := $(word 3,$(3))
+$(1)_out := $(PUBLISHED)/$(1)
+# depth values from the largest disparity searched to half a pixel (z = f B / d)
+$(1)_znear := $$(shell awk 'BEGIN { print $(5) / $(4) }')
+$(1)_zfar := $$(shell awk 'BEGIN { print $(5) * 2 }')
+
+$$($(1)_out)/%_$(6)_yuv420p.yuv: $(2)/%.png | install
+	mkdir -p $$(@D)
+	$(BIN)/mvtools convert $$< -o $$@
+
+$$($(1)_out)/$$($(1)_left).pfm: $(2)/$$($(1)_left).png $(2)/$$($(1)_right).png | install
+	mkdir -p $$(@D)
+	$(BIN)/mvtools estimate-depth --left $(2)/$$($(1)_left).png --right $(2)/$$($(1)_right).png \
+	    --disparities $(4) -o $$@
+
+$$($(1)_out)/$$($(1)_right).pfm: $(2)/$$($(1)_left).png $(2)/$$($(1)_right).png | install
+	mkdir -p $$(@D)
+	$(BIN)/mvtools estimate-depth --left $(2)/$$($(1)_left).png --right $(2)/$$($(1)_right).png \
+	    --view right --disparities $(4) -o $$@
+
+$$($(1)_out)/%_depth_$(6)_yuv420p.yuv: $$($(1)_out)/%.pfm
+	$(BIN)/mvtools convert $$< --from disparity --focal 1 --baseline $(5) \
+	    --znear $$($(1)_znear) --zfar $$($(1)_zfar) -o $$@
+
+$$($(1)_out)/synthesized_$$($(1)_middle)_$(6)_yuv420p.yuv: \
+		$$(foreach view,$$($(1)_left) $$($(1)_right),$$($(1)_out)/$$(view)_$(6)_yuv420p.yuv \
+		$$($(1)_out)/$$(view)_depth_$(6)_yuv420p.yuv) $(MIDDLEBURY)/synthesize_middle.cfg
+	$(BIN)/mvtools synthesize $(MIDDLEBURY)/synthesize_middle.cfg \
+	    SourceWidth=$$(word 1,$$(subst x, ,$(6))) SourceHeight=$$(word 2,$$(subst x, ,$(6))) \
+	    TotalNumberOfFrames=1 CameraParameterFile=$(MIDDLEBURY)/$(1)_cameras.txt \
+	    LeftCameraName=$$($(1)_left) VirtualCameraName=$$($(1)_middle) RightCameraName=$$($(1)_right) \
+	    LeftViewImageName=$$($(1)_out)/$$($(1)_left)_$(6)_yuv420p.yuv \
+	    RightViewImageName=$$($(1)_out)/$$($(1)_right)_$(6)_yuv420p.yuv \
+	    LeftDepthMapName=$$($(1)_out)/$$($(1)_left)_depth_$(6)_yuv420p.yuv \
+	    RightDepthMapName=$$($(1)_out)/$$($(1)_right)_depth_$(6)_yuv420p.yuv \
+	    $$(foreach side,Left Right,$$(side)NearestDepthValue=$$($(1)_znear) \
+	    $$(side)FarthestDepthValue=$$($(1)_zfar)) -o $$@
+
+$$($(1)_out)/$(1).scores: $$($(1)_out)/$$($(1)_middle)_$(6)_yuv420p.yuv \
+		$$($(1)_out)/synthesized_$$($(1)_middle)_$(6)_yuv420p.yuv
+	$(BIN)/mvtools evaluate $$^ > $$@
+endef
+
+$(eval $(call middlebury_case,cones,$(DATA)/middlebury/2003/cones,im2 im4 im6,64,4000,450x375))
+$(eval $(call middlebury_case,tsukuba,$(DATA)/middlebury/2001/tsukuba,tsukuba2 tsukuba3 tsukuba4,32,2000,384x288))
+
+KENDO := $(DATA)/mpeg/kendo
+$(PUBLISHED)/kendo/synthesized_02_1024x768_yuv420p.yuv: $(KENDO)/config/VSRS/vsrs_kendo_ori.cfg | install
+	mkdir -p $(@D)
+	$(BIN)/mvtools synthesize $< --data-dir $(KENDO) -o $@
+
+published: $(PUBLISHED)/cones/cones.scores $(PUBLISHED)/tsukuba/tsukuba.scores \
+		$(PUBLISHED)/kendo/synthesized_02_1024x768_yuv420p.yuv
+	@echo "published material: the middle view synthesized from the depth estimated for the outer pair"
+	@for case in cones tsukuba; do printf '%-8s ' $$case; \
+	    grep '^  mean' $(PUBLISHED)/$$case/$$case.scores; done
+	@echo "(columns: Y-PSNR U-PSNR V-PSNR YUV-PSNR Y-SSIM IV-PSNR; the tests hold Cones im4 to 30.2 dB Y-PSNR on its 448x368 crop)"
+	@echo "kendo: camera 2 synthesized from cameras 1 and 3: $(PUBLISHED)/kendo/synthesized_02_1024x768_yuv420p.yuv"
 
 test: install
 	$(BIN)/python -m pytest -q

@@ -93,9 +93,13 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 @click.option("--segmentation", is_flag=True, default=None,
               help="Stereo-pair mode: fill the pixels failing the left-right check from "
                    "disparity planes of colour segments.")
+@click.option("--view", "pair_view", type=click.Choice(("left", "right")), default=None,
+              help="Stereo-pair mode: whose disparity to write (default left; right: "
+                   "x_left = x_right + disparity).")
 @click.option("-o", "--output", type=click.Path(dir_okay=False), default=None,
               help="DERS mode: the depth map video (FileOutputDepthMapImage). Stereo-pair "
-                   "mode: disparity map of the left view, PFM (float pixels, inf = unknown).")
+                   "mode: disparity map of the left view (or --view right), PFM (float "
+                   "pixels, inf = unknown).")
 @click.option("--png", type=click.Path(dir_okay=False), default=None,
               help="Stereo-pair mode: also write the disparity map as a 16-bit PNG holding "
                    "disparity * --png-scale, rounded, 0 = unknown.")
@@ -110,8 +114,8 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 @param_options(DersParams, _SECONDARY_NAMES)
 @program
 def command(config, overrides, data_dirs, left, right, max_disparity, min_disparity,
-            further_neighbours, subpixel, segment_planes, segmentation, output, png, png_scale,
-            depth_bits, transposed_rotation, **options):
+            further_neighbours, subpixel, segment_planes, segmentation, pair_view, output, png,
+            png_scale, depth_bits, transposed_rotation, **options):
     """Estimate depth from a DERS configuration, or disparity from a stereo pair.
 
     \b
@@ -148,7 +152,7 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
                     "--min-disparity": min_disparity, "--png": png, "--png-scale": png_scale,
                     "--subpixel/--integer": subpixel,
                     "--segment-planes/--no-segment-planes": segment_planes,
-                    "--segmentation": segmentation}
+                    "--segmentation": segmentation, "--view": pair_view}
     if config is not None:
         given = [name for name, value in pair_options.items() if value is not None]
         if given:
@@ -186,15 +190,16 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
         raise DataError(f"the right picture is {right_rgb.shape[1]}x{right_rgb.shape[0]}, the "
                         f"left one {left_rgb.shape[1]}x{left_rgb.shape[0]}", path=right)
     height, width = left_rgb.shape[:2]
-    LOG.info("%s: %dx%d, disparities %d..%d, method %s", left, width, height, min_disparity,
-             max_disparity, method)
+    LOG.info("%s: %dx%d, disparities %d..%d, method %s", right if pair_view == "right" else left,
+             width, height, min_disparity, max_disparity, method)
     start = time.perf_counter()
     try:
         disparity = estimate_disparity(left_rgb, right_rgb, max_disparity=max_disparity,
                                        min_disparity=min_disparity, method=method,
                                        subpixel=bool(subpixel),
                                        segment_planes=segment_planes is not False,
-                                       segmentation=bool(segmentation))
+                                       segmentation=bool(segmentation),
+                                       view=pair_view or "left")
     except ValueError as error:
         # The method's own limits on the range or picture size, which options can break.
         raise UsageError(str(error)) from None

@@ -41,7 +41,7 @@ PAIR_METHODS: tuple[str, ...] = (*METHODS, "patchmatch")
 def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: int,
                        min_disparity: int = 0, method: str = "bp",
                        segment_planes: bool = True, segmentation: bool = False,
-                       subpixel: bool = False) -> np.ndarray:
+                       subpixel: bool = False, view: str = "left") -> np.ndarray:
     """Disparity of the left view of a rectified pair.
 
     AD-census costs, the method's optimisation, sub-pixel winner-takes-all in both views
@@ -75,6 +75,10 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     subpixel : bool
         Sub-pixel values; otherwise the nearest integer level of the winner, which
         scores better on the bad 1.0 measure (see Notes).
+    view : {"left", "right"}
+        Whose disparity: the right view's is the left view's of the mirrored, swapped
+        pair (``x_left = x_right + d``), so that both views of a pair get the same
+        treatment, e.g. as the two references of a synthesis.
 
     Returns
     -------
@@ -130,6 +134,13 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     if method not in PAIR_METHODS:
         raise ValueError(f"{method!r} method is invalid, it must be one of "
                          f"{sorted(PAIR_METHODS)}")
+    if view not in ("left", "right"):
+        raise ValueError(f"view must be 'left' or 'right', got {view!r}")
+    if view == "right":
+        mirrored = [np.ascontiguousarray(np.asarray(picture)[:, ::-1]) for picture in (right, left)]
+        return np.ascontiguousarray(estimate_disparity(
+            *mirrored, max_disparity=max_disparity, min_disparity=min_disparity, method=method,
+            segment_planes=segment_planes, segmentation=segmentation, subpixel=subpixel)[:, ::-1])
     left, right = check_pair(left, right, min_disparity=min_disparity,
                              max_disparity=max_disparity)
     levels = max_disparity - min_disparity + 1
