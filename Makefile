@@ -39,7 +39,8 @@ demo: install
 	$(BIN)/mvtools convert $(LINE)/v2_depth_256x192_yuv420p.yuv --depth --preview -o $(DEMO)/v2_depth_%02d.png
 	$(BIN)/mvtools convert $(LINE)/v2_depth_256x192_gray16le.yuv --depth --to z --znear 2 --zfar 13 -o $(DEMO)/v2_z_%02d.pfm
 	$(MAKE) --no-print-directory chain
-	@echo "demo outputs in $(DEMO)"
+	$(BIN)/mvtools report $(DEMO)
+	@echo "demo outputs in $(DEMO), and the page of them all: $(DEMO)/report.html"
 
 # The chain on the array as built (sample_data/distorted: lens distortion, turned cameras,
 # colour mismatch): calibrate the sample rig from its checkerboard captures, rectify the

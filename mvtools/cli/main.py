@@ -6,7 +6,7 @@ import click
 
 from mvtools import __version__
 from mvtools.cli import (bitrate, calibrate, colorcorrect, convert, encode, estimate_depth,
-                         evaluate, inspect, pack, rectify, scene, synthesize)
+                         evaluate, inspect, pack, rectify, report, scene, synthesize)
 
 PROGRAMS: dict[str, click.Command] = {
     "evaluate": evaluate.command,
@@ -21,6 +21,7 @@ PROGRAMS: dict[str, click.Command] = {
     "pack": pack.command,
     "encode": encode.command,
     "bitrate": bitrate.command,
+    "report": report.command,
 }
 
 
@@ -49,6 +50,7 @@ rectify_cli = _standalone("rectify")
 colorcorrect_cli = _standalone("colorcorrect")
 encode_cli = _standalone("encode")
 bitrate_cli = _standalone("bitrate")
+report_cli = _standalone("report")
 estimate_depth_cli = _standalone("estimate-depth")
 synthesize_cli = _standalone("synthesize")
 pack_cli = _standalone("pack")

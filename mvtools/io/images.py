@@ -22,7 +22,7 @@ from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import atomic_output
 from mvtools.io.files import read_bytes
 
-__all__ = ["read_image", "write_image", "read_pfm", "write_pfm", "IMAGE_EXTENSIONS"]
+__all__ = ["read_image", "write_image", "encode_image", "read_pfm", "write_pfm", "IMAGE_EXTENSIONS"]
 
 logger = logging.getLogger(__name__)
 
@@ -116,6 +116,16 @@ def write_image(path: str | os.PathLike, array: np.ndarray, *, jpeg_quality: int
     if ext not in _CV2_EXTENSIONS:
         raise UsageError(f"cannot write images of type {ext or '(no extension)'!r}; "
                          f"use one of {', '.join(IMAGE_EXTENSIONS)}", path=path)
+    encoded = encode_image(array, ext, jpeg_quality=jpeg_quality)
+    with atomic_output(path, "wb") as handle:
+        handle.write(encoded)
+
+
+def encode_image(array: np.ndarray, ext: str = ".png", *, jpeg_quality: int = 95) -> bytes:
+    """The bytes of an image file of type ``ext`` (``.png``, ``.jpg``, ...; not PFM),
+    e.g. for a page that embeds its pictures. Shapes and dtypes as :func:`write_image`."""
+    if ext not in _CV2_EXTENSIONS:
+        raise ValueError(f"cannot encode images of type {ext!r}")
     array = np.asarray(array)
     if array.ndim == 3 and array.shape[2] == 1:
         array = array[..., 0]
@@ -133,8 +143,7 @@ def write_image(path: str | os.PathLike, array: np.ndarray, *, jpeg_quality: int
     ok, encoded = cv2.imencode(ext, np.ascontiguousarray(array), params)
     if not ok:
         raise ValueError(f"OpenCV could not encode a {array.dtype} {array.shape} image as {ext}")
-    with atomic_output(path, "wb") as handle:
-        handle.write(encoded.tobytes())
+    return encoded.tobytes()
 
 
 def read_pfm(path: str | os.PathLike) -> np.ndarray:

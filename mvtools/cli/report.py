@@ -1,0 +1,160 @@
+"""``mvtools report``: one self-contained HTML page of what a pipeline wrote."""
+
+from __future__ import annotations
+
+import json
+import logging
+from pathlib import Path
+
+import click
+import numpy as np
+
+from mvtools.cli.options import ProgramCommand, program
+from mvtools.color import yuv_to_rgb
+from mvtools.color.levels import depth_preview
+from mvtools.errors import UsageError
+from mvtools.io.atomic import atomic_output
+from mvtools.io.images import encode_image, read_image
+from mvtools.io.yuv import format_from_name, open_video
+from mvtools.report import Picture, Plot, Section, Table, bar_plot, html_page, line_plot
+
+LOG = logging.getLogger("mvtools")
+
+# Enough pictures to see every stage, few enough to keep the page light.
+MAX_PICTURES = 100
+
+
+@click.command(name="report", cls=ProgramCommand)
+@click.argument("build_dir", type=click.Path(file_okay=False))
+@click.option("-o", "--output", type=click.Path(dir_okay=False), default=None,
+              help="The page (default BUILD_DIR/report.html).")
+@click.option("--title", default=None, help="The page's title (default: the folder's name).")
+@program
+def command(build_dir, output, title):
+    """Write an HTML page of the results under BUILD_DIR: calibration errors per capture
+    (plot and table) with the corner pictures, the first frame of every video (depth maps
+    colour-mapped), the scores mvtools evaluate wrote (*.scores), and rate-distortion
+    curves with Bjontegaard deltas from mvtools encode. Pictures are embedded: the page is
+    one file.
+    """
+    folder = Path(build_dir)
+    if not folder.is_dir():
+        raise UsageError("no such folder", path=folder)
+    output = Path(output) if output else folder / "report.html"
+    sections = [_calibrations(folder), _pictures(folder, output), _scores(folder),
+                _compressions(folder)]
+    page = html_page(title or f"mvtools report of {folder.resolve().name}", sections)
+    with atomic_output(output, "w") as handle:
+        handle.write(page)
+    LOG.info("wrote %s (%d sections)", output, sum(bool(section.items) for section in sections))
+
+
+def _reports(folder: Path, key: str):
+    for path in sorted(folder.rglob("report.json")):
+        document = json.loads(path.read_text())
+        if isinstance(document, dict) and key in document:
+            yield path, document
+
+
+def _calibrations(folder: Path) -> Section:
+    section = Section("Calibration")
+    for path, document in _reports(folder, "baselines_m"):
+        cameras = document["cameras"]
+        section.items.append(Table(
+            f"{path.parent.relative_to(folder)}: cameras",
+            ("camera", "fx", "fy", "cx", "cy", "K1", "K2", "RMS px", "captures"),
+            [(camera["name"], camera["K"][0][0], camera["K"][1][1], camera["K"][0][2],
+              camera["K"][1][2], camera["distortion"]["K1"], camera["distortion"]["K2"],
+              camera["rms_px"], len(camera["captures_used"])) for camera in cameras]))
+        section.items.append(Plot("reprojection error of every capture used (px RMS), per camera",
+                                  bar_plot({camera["name"]: list(camera["capture_rms_px"].values())
+                                            for camera in cameras}, y_label="px RMS")))
+        section.items += [Picture(picture.stem, picture.read_bytes())
+                          for picture in sorted(path.parent.glob("*_corners.png"))]
+    return section
+
+
+def _first_frame(path: Path) -> np.ndarray | None:
+    fmt = format_from_name(path)
+    if fmt is None:
+        return None
+    with open_video(path, fmt) as video:
+        if len(video) == 0:
+            return None
+        planes = video.read(0)
+        if "depth" in path.name:
+            return depth_preview(np.asarray(planes[0]), bits=fmt.bits)
+        return yuv_to_rgb(planes, bits=fmt.bits) if fmt.bits == 8 else None
+
+
+def _pictures(folder: Path, output: Path) -> Section:
+    section = Section("Pictures (first frames; depth maps colour-mapped, red near)")
+    for path in sorted(folder.rglob("*.yuv")):
+        if len(section.items) >= MAX_PICTURES:
+            LOG.warning("%s: more than %d videos; the report shows the first", folder,
+                        MAX_PICTURES)
+            break
+        picture = _first_frame(path)
+        if picture is not None:
+            section.items.append(Picture(str(path.relative_to(folder)), encode_image(picture)))
+    for path in sorted(folder.rglob("*.png")):
+        if len(section.items) >= MAX_PICTURES:
+            break
+        if not path.name.endswith("_corners.png"):
+            section.items.append(Picture(str(path.relative_to(folder)),
+                                         encode_image(read_image(path))))
+    return section
+
+
+def _scores(folder: Path) -> Section:
+    """The tables of the *.scores files (mvtools evaluate's output), each with the first
+    frames of its reference and test videos side by side and their luma error map."""
+    section = Section("Scores (reference | test | luma error x4)")
+    for path in sorted(folder.rglob("*.scores")):
+        lines = [line.split() for line in path.read_text().splitlines()]
+        header = next((line for line in lines if line and line[0] == "frame"), None)
+        if header is None:
+            continue
+        rows = [line for line in lines if len(line) == len(header) and line[0] != "frame"]
+        section.items.append(Table(str(path.relative_to(folder)), header, rows))
+        videos = {line[0]: Path(line[1]) for line in lines
+                  if len(line) >= 2 and line[0] in ("reference", "test")}
+        if set(videos) == {"reference", "test"} and all(map(Path.exists, videos.values())):
+            comparison = _comparison(videos["reference"], videos["test"],
+                                     str(path.relative_to(folder)))
+            if comparison is not None:
+                section.items.append(comparison)
+    return section
+
+
+def _comparison(reference: Path, test: Path, caption: str) -> Picture | None:
+    pictures = [_first_frame(reference), _first_frame(test)]
+    if any(picture is None for picture in pictures) or pictures[0].shape != pictures[1].shape:
+        return None
+    luma = [picture.astype(np.float64) @ (0.299, 0.587, 0.114) for picture in pictures]
+    error = np.clip(np.abs(luma[0] - luma[1]) * 4, 0, 255).astype(np.uint8)
+    side_by_side = np.hstack([*pictures, np.repeat(error[..., None], 3, axis=2)])
+    return Picture(f"{caption}: {reference.name} | {test.name} | error", encode_image(side_by_side))
+
+
+def _compressions(folder: Path) -> Section:
+    section = Section("Compression")
+    for path, document in _reports(folder, "modes"):
+        where = path.parent.relative_to(folder)
+        series = {mode: [(point["kbps"], point["mean_texture_yuv_psnr"]) for point in points]
+                  for mode, points in document["modes"].items()}
+        section.items.append(Plot(f"{where}: rate-distortion (mean texture YUV-PSNR)",
+                                  line_plot(series, x_label="kbit/s", y_label="dB",
+                                            log_x=True)))
+        section.items.append(Table(f"{where}: rate points", ("mode", "QP", "kbit/s", "YUV-PSNR"),
+                                   [(mode, point["qp"], point["kbps"],
+                                     point["mean_texture_yuv_psnr"])
+                                    for mode, points in document["modes"].items()
+                                    for point in points]))
+        deltas = document.get("bjontegaard", {})
+        if deltas:
+            section.items.append(Table(f"{where}: packed against simulcast",
+                                       ("interpolation", "BD-rate %", "BD-PSNR dB"),
+                                       [(method, values["bd_rate_percent"], values["bd_psnr_db"])
+                                        for method, values in deltas.items()]))
+    return section
