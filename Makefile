@@ -167,8 +167,13 @@ $(PUBLISHED)/kendo/synthesized_02_1024x768_yuv420p.yuv: $(KENDO)/config/VSRS/vsr
 	mkdir -p $(@D)
 	$(BIN)/mvtools synthesize $< --data-dir $(KENDO) -o $@
 
+# every program run for these targets notes its time (the last run of each output counts)
+published: export MVTOOLS_TIME_LOG := $(abspath $(PUBLISHED))/stage_times.tsv
 published: $(PUBLISHED)/cones/cones.scores $(PUBLISHED)/tsukuba/tsukuba.scores \
 		$(PUBLISHED)/kendo/synthesized_02_1024x768_yuv420p.yuv
+	@echo "seconds per stage (program, output):"
+	@awk -F '\t' '{ time[$$2 "\t" $$3] = $$1 } END { for (key in time) { split(key, part, "\t"); \
+	    printf "%8.2f  %-24s %s\n", time[key], part[1], part[2] } }' $(MVTOOLS_TIME_LOG) | sort -k4
 	@echo "published material: the middle view synthesized from the depth estimated for the outer pair"
 	@for case in cones tsukuba; do printf '%-8s ' $$case; \
 	    grep '^  mean' $(PUBLISHED)/$$case/$$case.scores; done

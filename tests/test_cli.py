@@ -4,6 +4,9 @@ giving one line naming the place at fault, the right exit code and no output."""
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -208,3 +211,15 @@ def test_convert_cameras_text_to_json_and_back_keeps_projections(tmp_path):
     for name, camera in original.items():
         scale = np.abs(camera.projection).max()
         assert np.allclose(back[name].projection, camera.projection, atol=1e-9 * scale)
+
+
+def test_time_log_records_each_finished_program(tmp_path):
+    log = tmp_path / "times.tsv"
+    for size in ("1920x1080", "640x480"):
+        completed = subprocess.run([sys.executable, "-m", "mvtools", "bitrate", "--size", size,
+                                    "--fps", "25"], capture_output=True, text=True,
+                                   env={**os.environ, "MVTOOLS_TIME_LOG": str(log)})
+        assert completed.returncode == 0, completed.stderr
+    lines = [line.split("\t") for line in log.read_text().splitlines()]
+    assert [line[1:] for line in lines] == [["mvtools bitrate", "25"]] * 2
+    assert all(0 <= float(line[0]) < 60 for line in lines)

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import functools
 import logging
+import os
 import sys
+import time
 
 import click
 
@@ -12,6 +14,9 @@ from mvtools.errors import MvtoolsError
 from mvtools.params import Kind, param_specs
 
 LOG = logging.getLogger("mvtools")
+
+#: The environment variable naming the file that finished programs add their time to.
+TIME_LOG = "MVTOOLS_TIME_LOG"
 
 
 def _set_log_level(ctx: click.Context, verbose: int, quiet: int) -> None:
@@ -53,8 +58,9 @@ def program(function):
     @functools.wraps(function)
     def wrapper(ctx: click.Context, verbose: int, quiet: int, **kwargs):
         _set_log_level(ctx, verbose, quiet)
+        start = time.perf_counter()
         try:
-            return function(**kwargs)
+            result = function(**kwargs)
         except MvtoolsError as error:
             LOG.error("%s", error)
             ctx.exit(error.exit_code)
@@ -62,8 +68,22 @@ def program(function):
             where = f"{error.filename}: " if error.filename else ""
             LOG.error("%s%s", where, error.strerror or error)
             ctx.exit(1)
+        _log_time(ctx, time.perf_counter() - start)
+        return result
 
     return wrapper
+
+
+def _log_time(ctx: click.Context, seconds: float) -> None:
+    """With ``MVTOOLS_TIME_LOG=FILE`` in the environment, a finished program appends a
+    line ``seconds<TAB>program<TAB>its last argument`` (usually the output): a pipeline
+    can then tell what each stage cost."""
+    log = os.environ.get(TIME_LOG)
+    if not log:
+        return
+    arguments = sys.argv[1:]
+    with open(log, "a", encoding="utf-8") as handle:
+        handle.write(f"{seconds:.2f}\t{ctx.command_path}\t{arguments[-1] if arguments else ''}\n")
 
 
 class _OneLineUsageError(click.ClickException):
