@@ -49,7 +49,7 @@ def known_estimate(monkeypatch):
     calls = []
 
     def estimate_disparity(left, right, *, max_disparity, min_disparity=0, method="bp",
-                           subpixel=False, segment_planes=True, segmentation=False):
+                           subpixel=False, segment_planes=True, segmentation=False, view="left"):
         calls.append((left.shape, left.dtype, max_disparity, min_disparity, method,
                       segment_planes))
         height, width = left.shape[:2]
