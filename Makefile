@@ -44,10 +44,11 @@ demo: install
 
 # The chain on the array as built (sample_data/distorted: lens distortion, turned cameras,
 # colour mismatch): calibrate the sample rig from its checkerboard captures, rectify the
-# array, correct its colours to camera 2, estimate the depth of cameras 1 and 3 from their
-# neighbours, synthesize camera 2 from them in 1D mode, score it against the real one,
-# and pack views and depth maps into one atlas. Every step is a file target: re-running
-# redoes only what changed, and `make -j2 chain` estimates both depth maps at once.
+# array, correct its colours to camera 2, estimate the depth of every camera from its
+# neighbours, leave out each inner camera in turn and synthesize it from its neighbours
+# in 1D mode, score it against the real one, and pack views and depth maps into one
+# atlas. Every step is a file target: re-running redoes only what changed, and
+# `make -j2 chain` runs independent views side by side.
 CHAIN := $(DEMO)/chain
 RECTIFIED := $(CHAIN)/rectified
 CORRECTED := $(CHAIN)/corrected
@@ -72,35 +73,49 @@ $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) $(CORRECTED)/cam$(c).lut.t
 	    --depth-range 2 13 -o $(CORRECTED) \
 	    $(foreach c,$(CAMS),--view cam$(c) $(RECTIFIED)/$(call texture,$(c)))
 
-# the depth of camera N from cameras N-1 and N+1, with the sample line's DERS configuration
+# the depth of camera N from cameras N-1 and N+1 (the end cameras from their one
+# neighbour), with the sample line's DERS configuration
+LAST := $(lastword $(CAMS))
 $(CHAIN)/estimated_v%_depth_$(VIEW): $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c))) \
 		$(LINE)/depth_cam2.cfg
 	left=$$(($* - 1)); right=$$(($* + 1)); \
+	if [ $* -eq 0 ]; then sides="MatchDirection=2 LeftCameraName= FileLeftViewImage="; \
+	elif [ $* -eq $(LAST) ]; then sides="MatchDirection=1 RightCameraName= FileRightViewImage="; \
+	else sides=""; fi; \
 	$(BIN)/mvtools estimate-depth $(LINE)/depth_cam2.cfg FileCameraParameter=$(RECTIFIED)/cameras.txt \
 	    LeftCameraName=cam$$left CenterCameraName=cam$* RightCameraName=cam$$right \
 	    FileLeftViewImage=$(CORRECTED)/v$${left}_texture_$(VIEW) \
 	    FileCenterViewImage=$(CORRECTED)/$(call texture,$*) \
-	    FileRightViewImage=$(CORRECTED)/v$${right}_texture_$(VIEW) FileOutputDepthMapImage=$@
+	    FileRightViewImage=$(CORRECTED)/v$${right}_texture_$(VIEW) $$sides FileOutputDepthMapImage=$@
 
-$(CHAIN)/synthesized_v2_$(VIEW): $(CHAIN)/estimated_v1_depth_$(VIEW) $(CHAIN)/estimated_v3_depth_$(VIEW) \
-		$(LINE)/synthesize_cam2.cfg
+# camera N left out and synthesized from cameras N-1 and N+1 (1D mode), then scored
+$(CHAIN)/synthesized_v%_$(VIEW): $(LINE)/synthesize_cam2.cfg \
+		$(foreach c,$(CAMS),$(CHAIN)/estimated_v$(c)_depth_$(VIEW))
+	left=$$(($* - 1)); right=$$(($* + 1)); \
 	$(BIN)/mvtools synthesize $(LINE)/synthesize_cam2.cfg CameraParameterFile=$(RECTIFIED)/cameras.txt \
-	    LeftViewImageName=$(CORRECTED)/$(call texture,1) RightViewImageName=$(CORRECTED)/$(call texture,3) \
-	    LeftDepthMapName=$(CHAIN)/estimated_v1_depth_$(VIEW) RightDepthMapName=$(CHAIN)/estimated_v3_depth_$(VIEW) \
-	    -o $@
+	    LeftCameraName=cam$$left VirtualCameraName=cam$* RightCameraName=cam$$right \
+	    LeftViewImageName=$(CORRECTED)/v$${left}_texture_$(VIEW) \
+	    RightViewImageName=$(CORRECTED)/v$${right}_texture_$(VIEW) \
+	    LeftDepthMapName=$(CHAIN)/estimated_v$${left}_depth_$(VIEW) \
+	    RightDepthMapName=$(CHAIN)/estimated_v$${right}_depth_$(VIEW) -o $@
 
-$(CHAIN)/synthesized_v2.scores: $(CHAIN)/synthesized_v2_$(VIEW)
-	$(BIN)/mvtools evaluate $(CORRECTED)/$(call texture,2) $< > $@
+# the synthesized views are results in their own right, not intermediates to delete
+.PRECIOUS: $(CHAIN)/synthesized_v%_$(VIEW)
+$(CHAIN)/synthesized_v%.scores: $(CHAIN)/synthesized_v%_$(VIEW)
+	$(BIN)/mvtools evaluate $(CORRECTED)/$(call texture,$*) $< > $@
 
-$(CHAIN)/atlas.yuv: $(foreach c,1 2 3,$(CORRECTED)/$(call texture,$(c))) \
-		$(CHAIN)/estimated_v1_depth_$(VIEW) $(CHAIN)/estimated_v3_depth_$(VIEW)
+INNER := $(filter-out $(firstword $(CAMS)) $(LAST),$(CAMS))
+$(CHAIN)/atlas.yuv: $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) \
+		$(CHAIN)/estimated_v$(c)_depth_$(VIEW))
 	$(BIN)/mvtools pack --layout atlas -o $@ \
-	    $(foreach c,1 2 3,--view cam$(c) $(CORRECTED)/$(call texture,$(c))) \
-	    $(foreach c,1 3,--depth cam$(c) $(CHAIN)/estimated_v$(c)_depth_$(VIEW))
+	    $(foreach c,$(CAMS),--view cam$(c) $(CORRECTED)/$(call texture,$(c))) \
+	    $(foreach c,$(CAMS),--depth cam$(c) $(CHAIN)/estimated_v$(c)_depth_$(VIEW))
 
-chain: $(CHAIN)/calibrated_rig.txt $(CHAIN)/synthesized_v2.scores $(CHAIN)/atlas.yuv
-	@echo "camera 2 synthesized from the rectified, colour-corrected cameras 1 and 3 and their estimated depth:"
-	@cat $(CHAIN)/synthesized_v2.scores
+chain: $(CHAIN)/calibrated_rig.txt $(foreach c,$(INNER),$(CHAIN)/synthesized_v$(c).scores) \
+		$(CHAIN)/atlas.yuv
+	@echo "each inner camera left out and synthesized from its rectified, colour-corrected"
+	@echo "neighbours and their estimated depth (Y-PSNR U V YUV Y-SSIM IV-PSNR, mean of the frames):"
+	@for c in $(INNER); do printf 'cam%s ' $$c; grep '^  mean' $(CHAIN)/synthesized_v$$c.scores; done
 	$(BIN)/mvtools bitrate --size 1920x1080 --fps 25 --views 9
 
 # Published material (../shared/data, or DATA=...): depth estimated for the two outer views
