@@ -44,10 +44,11 @@ demo: install
 
 # The chain on the array as built (sample_data/distorted: lens distortion, turned cameras,
 # colour mismatch): calibrate the sample rig from its checkerboard captures, rectify the
-# array, correct its colours to camera 2, estimate the depth of every camera from its
-# neighbours, leave out each inner camera in turn and synthesize it from its neighbours
-# in 1D mode, score it against the real one, and pack views and depth maps into one
-# atlas. Every step is a file target: re-running redoes only what changed, and
+# array (with virtual cameras halfway between neighbours), correct its colours to camera 2,
+# estimate the depth of every camera from its neighbours, leave out each inner camera in
+# turn and synthesize it from its neighbours in 1D mode, score it against the real one,
+# synthesize the virtual views between every pair of neighbours, and pack views and depth
+# maps into one atlas. Every step is a file target: re-running redoes only what changed, and
 # `make -j2 chain` runs independent views side by side.
 CHAIN := $(DEMO)/chain
 RECTIFIED := $(CHAIN)/rectified
@@ -64,7 +65,7 @@ $(CHAIN)/calibrated_rig.txt: $(BOARDS) | install
 
 $(foreach c,$(CAMS),$(RECTIFIED)/$(call texture,$(c))) $(RECTIFIED)/cameras.txt &: \
 		$(DISTORTED)/cameras.txt $(foreach c,$(CAMS),$(DISTORTED)/$(call texture,$(c))) | install
-	$(BIN)/mvtools rectify $(DISTORTED)/cameras.txt -o $(RECTIFIED) \
+	$(BIN)/mvtools rectify $(DISTORTED)/cameras.txt -o $(RECTIFIED) --virtual 1 \
 	    $(foreach c,$(CAMS),--texture cam$(c) $(DISTORTED)/$(call texture,$(c)))
 
 $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) $(CORRECTED)/cam$(c).lut.txt) &: \
@@ -104,6 +105,22 @@ $(CHAIN)/synthesized_v%_$(VIEW): $(LINE)/synthesize_cam2.cfg \
 $(CHAIN)/synthesized_v%.scores: $(CHAIN)/synthesized_v%_$(VIEW)
 	$(BIN)/mvtools evaluate $(CORRECTED)/$(call texture,$*) $< > $@
 
+# the virtual view halfway between cameras $(1) and $(2) (rectify --virtual 1 names it)
+define between
+$(CHAIN)/virtual/cam$(1)_cam$(2)_1_$(VIEW): $(LINE)/synthesize_cam2.cfg \
+		$(CHAIN)/estimated_v$(1)_depth_$(VIEW) $(CHAIN)/estimated_v$(2)_depth_$(VIEW)
+	mkdir -p $$(@D)
+	$(BIN)/mvtools synthesize $(LINE)/synthesize_cam2.cfg CameraParameterFile=$(RECTIFIED)/cameras.txt \
+	    LeftCameraName=cam$(1) VirtualCameraName=cam$(1)_cam$(2)_1 RightCameraName=cam$(2) \
+	    LeftViewImageName=$(CORRECTED)/$(call texture,$(1)) \
+	    RightViewImageName=$(CORRECTED)/$(call texture,$(2)) \
+	    LeftDepthMapName=$(CHAIN)/estimated_v$(1)_depth_$(VIEW) \
+	    RightDepthMapName=$(CHAIN)/estimated_v$(2)_depth_$(VIEW) -o $$@
+endef
+PAIRS := 0-1 1-2 2-3 3-4
+$(foreach pair,$(PAIRS),$(eval $(call between,$(firstword $(subst -, ,$(pair))),$(lastword $(subst -, ,$(pair))))))
+VIRTUAL_VIEWS := $(foreach pair,$(PAIRS),$(CHAIN)/virtual/cam$(subst -,_cam,$(pair))_1_$(VIEW))
+
 INNER := $(filter-out $(firstword $(CAMS)) $(LAST),$(CAMS))
 $(CHAIN)/atlas.yuv: $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) \
 		$(CHAIN)/estimated_v$(c)_depth_$(VIEW))
@@ -112,10 +129,11 @@ $(CHAIN)/atlas.yuv: $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) \
 	    $(foreach c,$(CAMS),--depth cam$(c) $(CHAIN)/estimated_v$(c)_depth_$(VIEW))
 
 chain: $(CHAIN)/calibrated_rig.txt $(foreach c,$(INNER),$(CHAIN)/synthesized_v$(c).scores) \
-		$(CHAIN)/atlas.yuv
+		$(VIRTUAL_VIEWS) $(CHAIN)/atlas.yuv
 	@echo "each inner camera left out and synthesized from its rectified, colour-corrected"
 	@echo "neighbours and their estimated depth (Y-PSNR U V YUV Y-SSIM IV-PSNR, mean of the frames):"
 	@for c in $(INNER); do printf 'cam%s ' $$c; grep '^  mean' $(CHAIN)/synthesized_v$$c.scores; done
+	@echo "virtual views halfway between neighbours: $(notdir $(VIRTUAL_VIEWS))"
 	$(BIN)/mvtools bitrate --size 1920x1080 --fps 25 --views 9
 
 # Published material (../shared/data, or DATA=...): depth estimated for the two outer views

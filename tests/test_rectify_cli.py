@@ -219,3 +219,24 @@ def test_undistort_keeps_each_camera_where_it_looks(tmp_path):
     # not undistorted, is 2.5 levels off at the same places
     assert np.mean(np.abs(output - sampled)) < 0.6
     assert np.mean(np.abs(before[v.astype(int), u.astype(int)] - sampled)) > 2.0
+
+
+def test_virtual_cameras_between_neighbours(tmp_path):
+    code, _, stderr = invoke(rectify.command, DISTORTED / "cameras.txt", "--camera", "cam1",
+                             "--camera", "cam2", "--camera", "cam3", "--camera-size", "256x192",
+                             "--virtual", 3, "-o", tmp_path)
+    assert code == 0, stderr
+    cameras = read_cameras(tmp_path / "cameras.txt")
+    assert list(cameras) == ["cam1", "cam2", "cam3", "cam1_cam2_1", "cam1_cam2_2", "cam1_cam2_3",
+                             "cam2_cam3_1", "cam2_cam3_2", "cam2_cam3_3"]
+    # a quarter, a half and three quarters of the way, in the rectified frame
+    for k in (1, 2, 3):
+        np.testing.assert_allclose(cameras[f"cam1_cam2_{k}"].t,
+                                   cameras["cam1"].t + k / 4 * (cameras["cam2"].t - cameras["cam1"].t),
+                                   atol=1e-12)
+        np.testing.assert_array_equal(cameras[f"cam2_cam3_{k}"].R, np.eye(3))
+        np.testing.assert_array_equal(cameras[f"cam2_cam3_{k}"].K, cameras["cam2"].K)
+    code, _, stderr = invoke(rectify.command, DISTORTED / "cameras.txt", "--camera", "cam1",
+                             "--camera-size", "256x192", "--undistort", "--virtual", 1,
+                             "-o", tmp_path / "out")
+    assert code == 2 and not (tmp_path / "out").exists()

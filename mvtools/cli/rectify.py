@@ -19,8 +19,8 @@ from mvtools.geometry.depth import depth_to_z, z_to_depth
 from mvtools.io.cameras import get_camera, write_cameras
 from mvtools.io.json_cameras import read_camera_file, write_json_cameras
 from mvtools.io.yuv import open_writer
-from mvtools.rectification import (DepthResampler, Rectification, chroma_maps, rectify_cameras,
-                                   remap_plane, undistortion)
+from mvtools.rectification import (DepthResampler, Rectification, cameras_between, chroma_maps,
+                                   rectify_cameras, remap_plane, undistortion)
 
 LOG = logging.getLogger("mvtools")
 
@@ -52,6 +52,10 @@ _OFF_LINE_WARNING = 0.01
 @click.option("--alpha", type=click.FloatRange(0.0, 1.0), default=0.0, show_default=True,
               help="Kept field of view: 0 crops so that every output pixel is valid, 1 keeps "
                    "every source pixel (with empty borders), values between interpolate.")
+@click.option("--virtual", "virtual_count", type=click.IntRange(min=0), default=0,
+              show_default=True,
+              help="Virtual cameras to add to the camera file between each pair of neighbours, "
+                   "evenly spaced (named LEFT_RIGHT_k), for the views synthesized in between.")
 @click.option("-o", "--out-dir", required=True, type=click.Path(file_okay=False),
               help="Folder for the rectified videos (named as their inputs) and the cameras.")
 @click.option("--cameras-out", default=None, type=click.Path(dir_okay=False),
@@ -65,7 +69,7 @@ _OFF_LINE_WARNING = 0.01
 @transposed_rotation_option
 @program
 def command(camera_file, camera_names, textures, depths, depth_range, undistort_only, keep_world,
-            alpha,
+            virtual_count, alpha,
             out_dir, cameras_out, camera_size, size, pix_fmt, start_frame, frame_count,
             transposed_rotation):
     """Rectify the cameras of CAMERA_FILE (a pair or a linear array) and their videos.
@@ -81,6 +85,8 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
     names = list(camera_names) or list(dict.fromkeys(name for name, _ in (*textures, *depths)))
     if not names:
         raise UsageError("name the cameras to rectify with --camera, --texture or --depth")
+    if virtual_count and undistort_only:
+        raise UsageError("--virtual cameras go between rectified cameras, not with --undistort")
     if len(names) < 2 and not undistort_only:
         raise UsageError(f"rectifying needs at least two cameras (a pair or a linear array), "
                          f"got {', '.join(names)}; --undistort works on one")
@@ -113,6 +119,8 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
             _rectify_video(Path(path), out, kind, result, index, selected[index], size, pix_fmt,
                            start_frame, frame_count, depth_ranges.get(name))
     described = result.cameras
+    if virtual_count:
+        described = described + cameras_between(described, virtual_count)
     if not (undistort_only or keep_world):
         described = turn_world(described, described[0].R)
     _write_cameras(Path(cameras_out) if cameras_out else out / "cameras.txt", described)

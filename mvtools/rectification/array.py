@@ -46,7 +46,8 @@ from mvtools.errors import DataError
 from mvtools.geometry.camera import Camera
 from mvtools.scene.render import project_points, undistort_normalized
 
-__all__ = ["Rectification", "rectify_cameras", "undistortion", "EDGE_TOLERANCE"]
+__all__ = ["Rectification", "rectify_cameras", "undistortion", "cameras_between",
+           "EDGE_TOLERANCE"]
 
 # Positions this close outside a picture (pixels) still count as inside: float32
 # maps of a 2000-pixel picture are exact to about 1e-4.
@@ -442,3 +443,42 @@ def undistortion(cameras, *, alpha: float = 0.0, size=None) -> Rectification:
                                out_size, alpha)
         outputs.append(_output_camera(camera, K, camera.R, out_size))
     return _resample(cameras, outputs, np.full(len(cameras), np.nan))
+
+
+def cameras_between(cameras, count: int) -> list[Camera]:
+    """Virtual cameras evenly spaced between each pair of neighbours of a rectified array.
+
+    Each gets its neighbours' common ``K``, ``R``, size and depth range, and a centre at
+    ``k / (count + 1)`` of the way from the left neighbour to the right one
+    (``k = 1 .. count``); it is named ``LEFT_RIGHT_k``. These are the virtual views of
+    free-viewpoint video between the real ones.
+
+    Parameters
+    ----------
+    cameras : sequence of Camera
+        Rectified cameras in array order (from :func:`rectify_cameras`).
+    count : int
+        Virtual cameras per pair of neighbours, at least 1.
+
+    Returns
+    -------
+    list of Camera
+        Pair by pair, left to right.
+    """
+    cameras = list(cameras)
+    if count < 1:
+        raise ValueError(f"count must be at least 1, got {count}")
+    if len(cameras) < 2:
+        raise ValueError(f"virtual cameras go between neighbours: need 2 cameras, got "
+                         f"{len(cameras)}")
+    virtual = []
+    for left, right in zip(cameras, cameras[1:]):
+        if not (np.allclose(left.K, right.K) and np.allclose(left.R, right.R)):
+            raise ValueError(f"cameras {left.name!r} and {right.name!r} are not rectified "
+                             "alike (their K or R differ)")
+        for k in range(1, count + 1):
+            fraction = k / (count + 1)
+            virtual.append(Camera(f"{left.name}_{right.name}_{k}", K=left.K, R=left.R,
+                                  t=(1 - fraction) * left.t + fraction * right.t,
+                                  size=left.size, depth_range=left.depth_range))
+    return virtual
