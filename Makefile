@@ -43,8 +43,8 @@ demo: install
 	@echo "demo outputs in $(DEMO), and the page of them all: $(DEMO)/report.html"
 
 # The chain on the array as built (sample_data/distorted: lens distortion, turned cameras,
-# colour mismatch): calibrate the sample rig from its checkerboard captures, rectify the
-# array (with virtual cameras halfway between neighbours), correct its colours to camera 2,
+# colour mismatch): calibrate the array from its checkerboard captures, rectify it with
+# the calibrated cameras (adding virtual cameras halfway between neighbours), correct its colours to camera 2,
 # estimate the depth of every camera from its neighbours, leave out each inner camera in
 # turn and synthesize it from its neighbours in 1D mode, score it against the real one,
 # synthesize the virtual views between every pair of neighbours, and pack views and depth
@@ -56,16 +56,18 @@ CORRECTED := $(CHAIN)/corrected
 DISTORTED := sample_data/distorted
 CAMS := 0 1 2 3 4
 texture = v$(1)_texture_$(VIEW)
-BOARDS := $(wildcard sample_data/checkerboard/cam*/capture*.png)
+BOARDS := $(wildcard $(DISTORTED)/checkerboard/cam*/capture*.png)
 
-$(CHAIN)/calibrated_rig.txt: $(BOARDS) | install
+# the array calibrated from its own captures; the tangential terms, which its lenses do not
+# have and the MPEG camera file cannot hold, are not fitted
+$(CHAIN)/calibrated_cameras.txt: $(BOARDS) | install
 	mkdir -p $(@D)
-	$(BIN)/mvtools calibrate $(foreach c,$(CAMS),sample_data/checkerboard/cam$(c)) --board 9x6 \
-	    --square 0.05 -o $@ --report $(CHAIN)/calibration
+	$(BIN)/mvtools calibrate $(foreach c,$(CAMS),$(DISTORTED)/checkerboard/cam$(c)) --board 9x6 \
+	    --square 0.05 --no-tangential -o $@ --report $(CHAIN)/calibration
 
 $(foreach c,$(CAMS),$(RECTIFIED)/$(call texture,$(c))) $(RECTIFIED)/cameras.txt &: \
-		$(DISTORTED)/cameras.txt $(foreach c,$(CAMS),$(DISTORTED)/$(call texture,$(c))) | install
-	$(BIN)/mvtools rectify $(DISTORTED)/cameras.txt -o $(RECTIFIED) --virtual 1 \
+		$(CHAIN)/calibrated_cameras.txt $(foreach c,$(CAMS),$(DISTORTED)/$(call texture,$(c)))
+	$(BIN)/mvtools rectify $(CHAIN)/calibrated_cameras.txt -o $(RECTIFIED) --virtual 1 \
 	    $(foreach c,$(CAMS),--texture cam$(c) $(DISTORTED)/$(call texture,$(c)))
 
 $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) $(CORRECTED)/cam$(c).lut.txt) &: \
@@ -128,7 +130,7 @@ $(CHAIN)/atlas.yuv: $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) \
 	    $(foreach c,$(CAMS),--view cam$(c) $(CORRECTED)/$(call texture,$(c))) \
 	    $(foreach c,$(CAMS),--depth cam$(c) $(CHAIN)/estimated_v$(c)_depth_$(VIEW))
 
-chain: $(CHAIN)/calibrated_rig.txt $(foreach c,$(INNER),$(CHAIN)/synthesized_v$(c).scores) \
+chain: $(foreach c,$(INNER),$(CHAIN)/synthesized_v$(c).scores) \
 		$(VIRTUAL_VIEWS) $(CHAIN)/atlas.yuv
 	@echo "each inner camera left out and synthesized from its rectified, colour-corrected"
 	@echo "neighbours and their estimated depth (Y-PSNR U V YUV Y-SSIM IV-PSNR, mean of the frames):"

@@ -26,6 +26,9 @@ from mvtools.scene import (Checkerboard, board_poses, calibration_rig, capture_c
                            default_scene, random_color_mismatches, render, sample_rigs)
 
 PARTS = ("line", "arc", "distorted", "checkerboard")
+# Board poses of the distorted array's own captures: its pictures are small (256x192 by
+# default), so the board fills fewer of them than the 640x480 rig's.
+DISTORTED_CAPTURES = 20
 
 
 @click.command(name="scene", cls=ProgramCommand)
@@ -92,9 +95,16 @@ def command(out_dir, width, height, frames, views, seed, samples, captures, capt
             write_json_cameras(folder / "cameras.json", rigs[part], depth_range=depth_range)
             _write_configs(folder, rigs[part], width=width, height=height, frames=frames,
                            depth_range=depth_range, general=part == "arc")
+        if distorted:
+            # the array's own calibration captures, for the chain capture -> calibrate ->
+            # rectify: boards near the middle of the line, seen by most of its cameras
+            _write_checkerboard(folder / "checkerboard", rigs[part], count=DISTORTED_CAPTURES,
+                                noise=capture_noise, seed=seed + 2, distance=(0.6, 0.9),
+                                lateral=0.15)
     if "checkerboard" in parts:
-        _write_checkerboard(out / "checkerboard", views=views, count=captures,
-                            size=tuple(capture_size), noise=capture_noise, seed=seed)
+        _write_checkerboard(out / "checkerboard",
+                            calibration_rig(n=views, size=tuple(capture_size), seed=seed),
+                            count=captures, noise=capture_noise, seed=seed + 1)
     _write_json(out / "truth.json", _scene_truth(scene, rigs, mismatches, width=width,
                                                  height=height, frames=frames, seed=seed))
     with atomic_output(out / "README.md", "w") as handle:
@@ -212,10 +222,11 @@ def _scene_truth(scene, rigs, mismatches, *, width, height, frames, seed) -> dic
     }
 
 
-def _write_checkerboard(folder: Path, *, views, count, size, noise, seed):
-    cameras = calibration_rig(n=views, size=size, seed=seed)
+def _write_checkerboard(folder: Path, cameras, *, count, noise, seed, **poses):
+    """Captures of the board at ``count`` poses (:func:`board_poses` with ``seed`` and
+    ``poses``) by ``cameras``, with their truth."""
     board = Checkerboard()
-    rotations, translations = board_poses(count, cameras, board, seed=seed + 1)
+    rotations, translations = board_poses(count, cameras, board, seed=seed, **poses)
     for camera in cameras:
         (folder / camera.name).mkdir(parents=True, exist_ok=True)
     progress = Progress(count, "board poses")
@@ -268,6 +279,7 @@ def _json_text(value, indent: str = "") -> str:
 def _readme(scene, *, width, height, frames, views, captures, capture_size, capture_noise,
             samples, seed) -> str:
     middle = views // 2
+    distorted_captures = DISTORTED_CAPTURES
     return f"""# mvtools sample data
 
 Written by `mvtools scene` (mvtools {mvtools.__version__}, seed {seed}): a synthetic scene
@@ -312,7 +324,10 @@ the same options give the same bytes.
   within 2 px, focal lengths within 1 %, lens distortion k1, k2 (in `cameras.txt`) and a
   colour mismatch (camera {middle} is the colour reference). Textures and 16-bit depth as
   above (depth along the ray of each distorted pixel). Ground truth for rectification and
-  colour correction.
+  colour correction. `distorted/checkerboard/`: the array's own calibration captures
+  (`cam{{j}}/capture{{k:02d}}.png`, {width}x{height}, {distorted_captures} board poses near the
+  middle of the line, the same board) and their `truth.json`, for the chain capture ->
+  calibrate -> rectify.
 - `checkerboard/`: calibration captures of a {views}-camera rig (not quite parallel, fx close to
   fy, different principal points, k1 in [-0.1, 0.1]): `cam{{j}}/capture{{k:02d}}.png`, grey,
   {capture_size[0]}x{capture_size[1]}, {captures} board poses (tilted 10-40 degrees; the
