@@ -445,6 +445,11 @@ class DersParams(_ProgramParams):
     threshold: float = _param(
         "Threshold", 0.0,
         "TemporalEnhancement: luma change under which a block counts as static", minimum=0)
+    temporal_refresh_period: int = _param(
+        "TemporalRefreshPeriod", 0,
+        "TemporalEnhancement: frames that are multiples of it are estimated afresh "
+        "(0: only frame 0); chunks of a run that start there need no earlier frames",
+        minimum=0)
     depth_estimation_mode: int = _param(
         "DepthEstimationMode", 0,
         "0 automatic; 1, 2 semi-automatic with manual input; 3 from a reference depth",

@@ -46,32 +46,86 @@ def _config_range(chunk):
     return [f"StartFrame={start}", f"TotalNumberOfFrames={count}"]
 
 
-def estimate_depth_run(out: Path, chunk):
+def estimate_depth_run(out: Path, chunk, *settings):
     out.mkdir(parents=True, exist_ok=True)
     output = out / "depth_256x192_yuv420p.yuv"
     return invoke(estimate_depth.command, LINE / "depth_cam2.cfg", *_config_range(chunk),
-                  f"FileOutputDepthMapImage={output}", "--data-dir", LINE, "-q"), output
+                  *settings, f"FileOutputDepthMapImage={output}", "--data-dir", LINE,
+                  "-q"), output
 
 
-def synthesize_run(out: Path, chunk):
-    # TemporalImprovementOption smooths depth over all earlier frames: a chunk cannot
-    # know them, so frame-by-frame synthesis is what chunks reproduce
+def synthesize_run(out: Path, chunk, *settings):
     out.mkdir(parents=True, exist_ok=True)
     output = out / "synthesized_256x192_yuv420p.yuv"
     return invoke(synthesize.command, LINE / "synthesize_cam2.cfg", *_config_range(chunk),
-                  "TemporalImprovementOption=0", "--data-dir", LINE, "-o", output, "-q"), output
+                  *settings, "--data-dir", LINE, "-o", output, "-q"), output
 
 
-@pytest.mark.parametrize("run", [rectify_run, colorcorrect_run, pack_run, estimate_depth_run,
-                                 synthesize_run], ids=lambda run: run.__name__[:-4])
-@pytest.mark.parametrize("chunking", CHUNKINGS)
-def test_chunks_concatenate_to_one_run(tmp_path, run, chunking):
-    (code, _, stderr), whole = run(tmp_path / "whole", [])
-    assert code == 0, stderr
+# The programs whose frames can depend on the frames before them, with and without the
+# settings that make them so: a chunk then takes in the earlier frames (all of them, or
+# those since the last multiple of TemporalRefreshPeriod).
+# With Threshold 1, four fifths of the sample scene's 8x8 blocks are static from frame to frame.
+TEMPORAL_DEPTH = ("TemporalEnhancement=1", "Threshold=1")
+FRAME_RANGE_CASES = {
+    "synthesize-temporal-filter": (synthesize_run, ("TemporalImprovementOption=1",)),
+    "synthesize-frame-by-frame": (synthesize_run, ("TemporalImprovementOption=0",)),
+    "estimate-depth-frame-by-frame": (estimate_depth_run, ()),
+    "estimate-depth-temporal": (estimate_depth_run, TEMPORAL_DEPTH),
+    "estimate-depth-temporal-refresh-2": (estimate_depth_run,
+                                          TEMPORAL_DEPTH + ("TemporalRefreshPeriod=2",)),
+}
+
+
+def _chunked_bytes(tmp_path: Path, run, chunking, *settings) -> bytes:
     pieces = b""
     for index, (start, count) in enumerate(chunking):
         (code, _, stderr), output = run(tmp_path / f"chunk{index}",
-                                        ["--start-frame", start, "--frames", count])
+                                        ["--start-frame", start, "--frames", count], *settings)
         assert code == 0, stderr
         pieces += output.read_bytes()
-    assert pieces == whole.read_bytes()
+    return pieces
+
+
+def _whole_bytes(out: Path, run, *settings) -> bytes:
+    (code, _, stderr), whole = run(out, [], *settings)
+    assert code == 0, stderr
+    return whole.read_bytes()
+
+
+@pytest.mark.parametrize("run", [rectify_run, colorcorrect_run, pack_run],
+                         ids=lambda run: run.__name__[:-4])
+@pytest.mark.parametrize("chunking", CHUNKINGS)
+def test_chunks_concatenate_to_one_run(tmp_path, run, chunking):
+    assert _chunked_bytes(tmp_path, run, chunking) == _whole_bytes(tmp_path / "whole", run)
+
+
+@pytest.mark.parametrize("case", FRAME_RANGE_CASES)
+@pytest.mark.parametrize("chunking", CHUNKINGS)
+def test_chunks_of_temporal_runs_concatenate_to_one_run(tmp_path, case, chunking):
+    run, settings = FRAME_RANGE_CASES[case]
+    assert _chunked_bytes(tmp_path, run, chunking, *settings) == \
+        _whole_bytes(tmp_path / "whole", run, *settings)
+
+
+@pytest.mark.parametrize("run, settings, off", [
+    (synthesize_run, ("TemporalImprovementOption=1",), "TemporalImprovementOption=0"),
+    (estimate_depth_run, TEMPORAL_DEPTH, "TemporalEnhancement=0")])
+def test_the_temporal_settings_change_the_later_frames(tmp_path, run, settings, off):
+    """The temporal chunks above test something: with the setting on, frames after the
+    first differ from a frame-by-frame run (and the first frame does not)."""
+    on_bytes = _whole_bytes(tmp_path / "on", run, *settings)
+    off_bytes = _whole_bytes(tmp_path / "off", run, *settings, off)
+    frame = len(on_bytes) // 3
+    assert on_bytes[:frame] == off_bytes[:frame]
+    assert on_bytes[frame:2 * frame] != off_bytes[frame:2 * frame]
+    assert on_bytes[2 * frame:] != off_bytes[2 * frame:]
+
+
+def test_a_refresh_period_estimates_its_frames_afresh(tmp_path):
+    """With TemporalRefreshPeriod 2, frame 2 is estimated as if it were the first."""
+    refreshed = _whole_bytes(tmp_path / "refreshed", estimate_depth_run,
+                             *TEMPORAL_DEPTH, "TemporalRefreshPeriod=2")
+    frame_by_frame = _whole_bytes(tmp_path / "off", estimate_depth_run, "TemporalEnhancement=0")
+    frame = len(refreshed) // 3
+    assert refreshed[2 * frame:] == frame_by_frame[2 * frame:]
+    assert refreshed[frame:2 * frame] != frame_by_frame[frame:2 * frame]

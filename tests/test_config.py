@@ -352,7 +352,7 @@ def test_option_values_become_command_line_entries():
 
 def test_param_specs_metadata():
     specs = {spec.key: spec for spec in param_specs(VsrsParams)}
-    assert len(specs) == 34 and len(param_specs(DersParams)) == 48
+    assert len(specs) == 34 and len(param_specs(DersParams)) == 49
     precision = specs["Precision"]
     assert (precision.name, precision.type, precision.default, precision.choices) == (
         "precision", int, 2, (1, 2, 4, 8, 16))

@@ -283,10 +283,23 @@ def _ders_mode(config: str, overrides, data_dirs, *, output: str | None,
                  "(%d-bit, %s)", znear, zfar, depth_format.bits, sidecar)
         writer = stack.enter_context(open_writer(target, depth_format))
         description = stack.enter_context(atomic_output(sidecar, "w"))
+        first = estimator.fresh_frame(frames.start)
+        if first < frames.start:
+            # a chunk of a longer run estimates, unwritten, the frames whose depth
+            # TemporalEnhancement can keep
+            LOG.warning("estimating frames %d to %d first, unwritten: TemporalEnhancement "
+                        "carries depth from frame %d on (TemporalRefreshPeriod %d)",
+                        first, frames.start - 1, first, params.temporal_refresh_period)
+        earlier = Progress(frames.start - first, "earlier frames estimated")
         progress = Progress(len(frames), "frames estimated")
-        for index in frames:
+        for index in range(first, frames.stop):
+            if estimator.fresh_frame(index) == index:
+                estimator.refresh()
             views = [_rgb_8bit_scale(reader.read(index), reader.format.bits) for reader in readers]
             z = estimator.frame(views[0], views[1:])
+            if index < frames.start:
+                earlier.advance()
+                continue
             writer.write(frame_from_luma(depth_format, coding.values(z)))
             progress.advance()
         json.dump(_description(center.name, znear, zfar, depth_format, params.depth_type),

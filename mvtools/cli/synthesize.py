@@ -142,6 +142,15 @@ def command(config, overrides, data_dirs, extra_views, hole_filling, output_dept
                  "s" if len(frames) != 1 else "", frames.start)
         loop = _FrameLoop(synthesizer, [ref.camera for ref in references], textures, depths, codings,
                           params.color_space, texture_format, writers, depth_output)
+        if synthesizer.carries_state and frames.start:
+            # the temporal depth filter carries state from frame 0: a chunk of a longer
+            # run takes in the frames before it to give the bytes of the whole run
+            LOG.info("taking in frames 0 to %d first (TemporalImprovementOption 1 carries "
+                     "depth from frame to frame)", frames.start - 1)
+            warm_up = Progress(frames.start, "frames taken in")
+            for index in range(frames.start):
+                synthesizer.warm_up(_FrameViews(loop, index))
+                warm_up.advance()
         progress = Progress(len(frames), "frames synthesized")
         for index in frames:
             loop.process(index)

@@ -27,6 +27,8 @@ How DERS's keys are read:
   SegmentationMethod and MaxCluster are not read.
 - TemporalEnhancement 1: 8x8 blocks whose mean absolute change of brightness (mean of
   R, G, B) from the previous frame is below Threshold keep the previous frame's depth.
+  The depth kept can come from any earlier frame, so the estimator is fed the frames in
+  order; :meth:`DersEstimator.refresh` starts afresh (TemporalRefreshPeriod).
 """
 
 from __future__ import annotations
@@ -222,6 +224,23 @@ class DersEstimator:
         if params.temporal_enhancement:
             z = self._temporal(z, center)
         return z
+
+    def refresh(self) -> None:
+        """Forget the earlier frames: the next frame is estimated as a first one."""
+        self._previous = None
+
+    def fresh_frame(self, index: int) -> int:
+        """The last frame at or before frame ``index`` that a run estimates afresh.
+
+        Frame ``index`` comes out as in a run from frame 0 when the estimator is
+        :meth:`refresh`-ed and fed the frames from this one on: ``index`` itself
+        without TemporalEnhancement, else the last multiple of TemporalRefreshPeriod
+        (0 when the period is 0).
+        """
+        if not self.params.temporal_enhancement:
+            return index
+        period = self.params.temporal_refresh_period
+        return index - index % period if period else 0
 
     def _segment_planes(self, level: np.ndarray, seen: np.ndarray, cost: np.ndarray,
                         center: np.ndarray) -> np.ndarray:

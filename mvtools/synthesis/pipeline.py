@@ -90,6 +90,34 @@ class Synthesizer:
             self._temporal = ([TemporalDepthFilter() for _ in used_cameras]
                               if options.temporal_improvement else None)
 
+    @property
+    def carries_state(self) -> bool:
+        """True when a frame's result depends on the frames before it (the temporal
+        depth filter of the 1D mode)."""
+        return self._temporal is not None
+
+    def warm_up(self, references: Sequence[ReferenceView]) -> None:
+        """Take in one frame that comes before the first one synthesized.
+
+        Only the temporal state is updated, which costs a small part of a frame's
+        synthesis: a run that starts at frame S after ``warm_up`` on frames 0 .. S-1
+        synthesizes the bytes of a run from frame 0. Does nothing when
+        :attr:`carries_state` is false.
+
+        Parameters
+        ----------
+        references : sequence of ReferenceView
+            As in :meth:`frame`.
+        """
+        if len(references) != self.reference_count:
+            raise ValueError(f"expected {self.reference_count} reference views, got "
+                             f"{len(references)}")
+        if self._temporal is None:
+            return
+        for index, i in enumerate(self._used):
+            view = references[i]
+            self._temporal[index].apply(view.z, view.color)
+
     def frame(self, references: Sequence[ReferenceView]) -> SynthesisResult:
         """Synthesize the virtual view of one frame.
 
