@@ -65,10 +65,14 @@ $(CHAIN)/calibrated_cameras.txt: $(BOARDS) | install
 	$(BIN)/mvtools calibrate $(foreach c,$(CAMS),$(DISTORTED)/checkerboard/cam$(c)) --board 9x6 \
 	    --square 0.05 --no-tangential -o $@ --report $(CHAIN)/calibration
 
-$(foreach c,$(CAMS),$(RECTIFIED)/$(call texture,$(c))) $(RECTIFIED)/cameras.txt &: \
-		$(CHAIN)/calibrated_cameras.txt $(foreach c,$(CAMS),$(DISTORTED)/$(call texture,$(c)))
+# the scene's true depth maps are rectified with the views: the truth the estimates are scored against
+true_depth = v$(1)_depth_256x192_gray16le.yuv
+$(foreach c,$(CAMS),$(RECTIFIED)/$(call texture,$(c)) $(RECTIFIED)/$(call true_depth,$(c))) \
+		$(RECTIFIED)/cameras.txt &: $(CHAIN)/calibrated_cameras.txt \
+		$(foreach c,$(CAMS),$(DISTORTED)/$(call texture,$(c)) $(DISTORTED)/$(call true_depth,$(c)))
 	$(BIN)/mvtools rectify $(CHAIN)/calibrated_cameras.txt -o $(RECTIFIED) --virtual 1 \
-	    $(foreach c,$(CAMS),--texture cam$(c) $(DISTORTED)/$(call texture,$(c)))
+	    $(foreach c,$(CAMS),--texture cam$(c) $(DISTORTED)/$(call texture,$(c))) \
+	    $(foreach c,$(CAMS),--depth cam$(c) $(DISTORTED)/$(call true_depth,$(c))) --depth-range 2 13
 
 $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) $(CORRECTED)/cam$(c).lut.txt) &: \
 		$(RECTIFIED)/cameras.txt $(foreach c,$(CAMS),$(RECTIFIED)/$(call texture,$(c)))
@@ -149,6 +153,13 @@ $(foreach c,$(INNER),$(eval $(call chunked,$(CHAIN)/synthesized_v$(c)_$(VIEW),$\
 $(CHAIN)/synthesized_v%.scores: $(CHAIN)/synthesized_v%_$(VIEW)
 	$(BIN)/mvtools evaluate $(CORRECTED)/$(call texture,$*) $< > $@
 
+# the estimated depth of each camera against the truth, as disparities towards a neighbour
+$(CHAIN)/estimated_v%_depth.errors.json: $(call depth,%) $(RECTIFIED)/$(call true_depth,%)
+	$(BIN)/mvtools evaluate --depth $(RECTIFIED)/$(call true_depth,$*) $< --reference-range 2 13 \
+	    --cameras $(RECTIFIED)/cameras.txt --camera cam$* \
+	    --neighbour cam$(or $(right_of_$*),$(left_of_$*)) --json-file $@ > $(@:.json=.txt)
+DEPTH_ERRORS := $(foreach c,$(CAMS),$(CHAIN)/estimated_v$(c)_depth.errors.json)
+
 # the virtual view halfway between the cameras of each pair (rectify --virtual 1 names it)
 between = $(call pair_left,$(1)) cam$(subst -,_cam,$(1))_1 $(call pair_right,$(1))
 virtual_view = $(CHAIN)/virtual/cam$(subst -,_cam,$(1))_1_$(VIEW)
@@ -174,13 +185,30 @@ $(CHAIN)/atlas.yuv: $(CORRECTED_VIEWS) $(foreach c,$(CAMS),$(call depth,$(c)))
 	    $(foreach c,$(CAMS),--view cam$(c) $(CORRECTED)/$(call texture,$(c))) \
 	    $(foreach c,$(CAMS),--depth cam$(c) $(call depth,$(c)))
 
-chain: $(foreach c,$(INNER),$(CHAIN)/synthesized_v$(c).scores) \
-		$(VIRTUAL_VIEWS) $(CHAIN)/atlas.yuv $(if $(CHUNK_STARTS),$(CHUNKS)/checked)
+# rate-distortion of the views and depth maps coded one by one and packed in one atlas, when
+# Debian's x265 and ffmpeg are installed (mvtools encode runs them)
+HAVE_ENCODERS := $(and $(shell command -v x265),$(shell command -v ffmpeg))
+$(CHAIN)/compression/report.json: $(CORRECTED_VIEWS) $(foreach c,$(CAMS),$(call depth,$(c)))
+	mkdir -p $(@D)
+	$(BIN)/mvtools encode -o $(@D) --qp 22 --qp 27 --qp 32 --qp 37 --preset fast \
+	    $(foreach c,$(CAMS),--view cam$(c) $(CORRECTED)/$(call texture,$(c))) \
+	    $(foreach c,$(CAMS),--depth cam$(c) $(call depth,$(c))) > $(@D)/summary.txt
+SHOW_COMPRESSION = echo "views and depth maps coded with x265 at QP 22 to 37, one atlas against one by one:"; \
+    grep '^packed against' $(CHAIN)/compression/summary.txt
+NO_COMPRESSION = echo "x265 or ffmpeg not installed (apt-get install x265 ffmpeg): no rate-distortion run"
+
+chain: $(foreach c,$(INNER),$(CHAIN)/synthesized_v$(c).scores) $(DEPTH_ERRORS) \
+		$(VIRTUAL_VIEWS) $(CHAIN)/atlas.yuv $(if $(CHUNK_STARTS),$(CHUNKS)/checked) \
+		$(if $(HAVE_ENCODERS),$(CHAIN)/compression/report.json)
+	@echo "estimated depth against the truth, as disparity towards a neighbour (bad 1, bad 2:"
+	@echo "% of pixels off by more than 1 and 2 px; mean abs and RMS error, px; mean of the frames):"
+	@for c in $(CAMS); do printf 'cam%s ' $$c; grep '^  mean' $(CHAIN)/estimated_v$${c}_depth.errors.txt; done
 	@echo "each inner camera left out and synthesized from its rectified, colour-corrected"
 	@echo "neighbours and their estimated depth (Y-PSNR U V YUV Y-SSIM IV-PSNR, mean of the frames):"
 	@for c in $(INNER); do printf 'cam%s ' $$c; grep '^  mean' $(CHAIN)/synthesized_v$$c.scores; done
 	@echo "virtual views halfway between neighbours: $(notdir $(VIRTUAL_VIEWS))"
 	@$(if $(CHUNK_STARTS),cat $(CHUNKS)/checked)
+	@$(if $(HAVE_ENCODERS),$(SHOW_COMPRESSION),$(NO_COMPRESSION))
 	$(BIN)/mvtools bitrate --size 1920x1080 --fps 25 --views 9
 
 # Published material (../shared/data, or DATA=...): depth estimated for the two outer views

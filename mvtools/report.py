@@ -118,12 +118,17 @@ def line_plot(series: dict[str, Sequence[tuple[float, float]]], *, x_label: str,
     return _svg(parts)
 
 
-def bar_plot(groups: dict[str, Sequence[float]], *, y_label: str) -> str:
+def bar_plot(groups: dict[str, Sequence[float]], *, y_label: str,
+             series: Sequence[str] | None = None) -> str:
     """An SVG bar chart: one group of bars per name (e.g. the reprojection error of
-    each capture, per camera)."""
+    each capture, per camera). Bars take the colour of their group, or with ``series``
+    (names of the bars' positions in every group, e.g. one per camera in each bin of a
+    histogram) the colour of their position, named in a legend."""
     values = [value for bars in groups.values() for value in bars]
     if not values:
         raise ValueError("nothing to plot")
+    if series is not None and any(len(bars) > len(series) for bars in groups.values()):
+        raise ValueError(f"a group has more bars than the {len(series)} series named")
     top = max(values) * 1.1 or 1.0
     count = sum(len(bars) for bars in groups.values()) + len(groups)
     width = (_WIDTH - _MARGIN - 30) / max(count, 1)
@@ -131,9 +136,9 @@ def bar_plot(groups: dict[str, Sequence[float]], *, y_label: str) -> str:
     parts = _frame("", y_label, [], _ticks(0.0, top), None, to_y)
     slot = 0
     for index, (name, bars) in enumerate(groups.items()):
-        colour = _COLOURS[index % len(_COLOURS)]
         start = slot
-        for value in bars:
+        for position, value in enumerate(bars):
+            colour = _COLOURS[(index if series is None else position) % len(_COLOURS)]
             x = _MARGIN + 10 + slot * width
             parts.append(f'<rect x="{x:.1f}" y="{to_y(value):.1f}" width="{width * 0.8:.1f}" '
                          f'height="{to_y(0) - to_y(value):.1f}" fill="{colour}"/>')
@@ -142,6 +147,10 @@ def bar_plot(groups: dict[str, Sequence[float]], *, y_label: str) -> str:
         parts.append(f'<text x="{centre:.1f}" y="{_HEIGHT - _MARGIN + 16}" font-size="11" '
                      f'text-anchor="middle">{html.escape(name)}</text>')
         slot += 1
+    for position, name in enumerate(series or ()):
+        parts.append(f'<text x="{_WIDTH - 20}" y="{26 + 14 * position}" font-size="12" '
+                     f'text-anchor="end" fill="{_COLOURS[position % len(_COLOURS)]}">'
+                     f'{html.escape(name)}</text>')
     return _svg(parts)
 
 

@@ -72,6 +72,67 @@ def test_evaluate_disparity_against_middlebury_ground_truth(tmp_path):
     assert result["nonocc_pixels"] < result["known_pixels"]
 
 
+def _depth_case(tmp_path: Path):
+    """Two cameras 0.2 apart with fx 100 (disparity = 20 / z); 16-bit depth videos of
+    2 frames, 4x8 pixels, Znear 1, Zfar 100: the truth has z 4 (5 px) on the left half
+    and z 2 (10 px) on the right, the test the same left half and 11.5 px on the right."""
+    from mvtools.geometry.camera import Camera
+    from mvtools.geometry.depth import z_to_depth
+    from mvtools.io.cameras import write_cameras
+    K = np.array([[100.0, 0, 4], [0, 100.0, 2], [0, 0, 1]])
+    cameras = tmp_path / "cameras.txt"
+    write_cameras(cameras, [Camera("a", K), Camera("b", K, t=np.array([0.2, 0, 0]))])
+    fmt = YuvFormat(8, 4, "400", 16)
+    videos = {}
+    for name, right_disparity in (("truth", 10.0), ("test", 11.5)):
+        z = np.where(np.arange(8) < 4, 4.0, 20.0 / right_disparity) * np.ones((4, 1))
+        videos[name] = tmp_path / f"{name}_8x4_gray16le.yuv"
+        write_video(videos[name], fmt, [(z_to_depth(z, 1.0, 100.0, bits=16),)] * 2)
+    return cameras, videos
+
+
+def test_evaluate_depth_videos_as_disparities_towards_the_neighbour(tmp_path):
+    cameras, videos = _depth_case(tmp_path)
+    # the test's range from its sidecar, as estimate-depth writes it
+    (tmp_path / (videos["test"].name + ".json")).write_text(
+        json.dumps({"NearestDepthValue": 1.0, "FarthestDepthValue": 100.0, "DepthType": 0}))
+    code, out, err = run("evaluate", "--depth", videos["truth"], videos["test"],
+                         "--reference-range", 1, 100, "--cameras", cameras, "--camera", "a",
+                         "--neighbour", "b", "--json-file", tmp_path / "errors.json")
+    assert code == 0, err
+    assert "  mean    50.000     0.000     0.750" in out
+    result = json.loads((tmp_path / "errors.json").read_text())
+    assert result["focal"] == 100 and result["baseline"] == pytest.approx(0.2)
+    # a 16-bit step is 20 * 0.99 / 65535 = 0.0003 px
+    for frame in result["frames"]:
+        assert frame["bad 1"] == 50.0 and frame["bad 2"] == 0.0
+        assert frame["mean abs"] == pytest.approx(0.75, abs=1e-3)
+    histogram = result["histogram"]
+    assert histogram["bins"] == ["0-0.25", "0.25-0.5", "0.5-1", "1-2", "2-4", "4-8", ">= 8"]
+    assert histogram["pixels"] == [32, 0, 0, 32, 0, 0, 0]
+    assert histogram["percent"][3] == 50.0
+
+
+@pytest.mark.parametrize("change, fragments", [
+    (("--test-range", None), ("--test-range", "test_8x4_gray16le.yuv.json")),
+    (("--neighbour", "c"), ("--neighbour", "no camera 'c'", "cameras.txt")),
+    (("--camera", None), ("--depth needs --camera",)),
+])
+def test_evaluate_depth_bad_input(tmp_path, change, fragments):
+    cameras, videos = _depth_case(tmp_path)
+    options = {"--reference-range": (1, 100), "--test-range": (1, 100), "--cameras": (cameras,),
+               "--camera": ("a",), "--neighbour": ("b",)}
+    option, value = change
+    if value is None:
+        del options[option]
+    else:
+        options[option] = (value,)
+    code, out, err = run("evaluate", "--depth", videos["truth"], videos["test"],
+                         *(item for key, values in options.items() for item in (key, *values)))
+    assert code == 2 and out == ""
+    assert_one_line_error(err, *fragments)
+
+
 # --------------------------------------------------------------------- convert
 
 def test_convert_images_to_yuv444_and_back_is_lossless_for_grey(tmp_path):

@@ -12,7 +12,7 @@ from mvtools.errors import DataError, UsageError
 from mvtools.datasets import (load_middlebury_ground_truth, middlebury_pair,
                               opencv_sgbm_reference, score_middlebury)
 from mvtools.io.middlebury import MIDDLEBURY_SETS, read_ground_truth, read_nonoccluded_mask
-from mvtools.metrics import nonoccluded_from_other_view, score_disparity
+from mvtools.metrics import error_histogram, nonoccluded_from_other_view, score_disparity
 from shared_data import shared_data
 
 
@@ -146,6 +146,19 @@ def test_scores_by_hand():
     # the invalid estimate is left out of the mean errors: 6 finite errors
     assert score.mean_abs_error == pytest.approx((1 + 2.5 + 0 + 0.5 + 3 + 0) / 6)
     assert score.rms_error == pytest.approx(math.sqrt((1 + 6.25 + 0.25 + 9) / 6))
+
+
+def test_error_histogram_by_hand():
+    # the case above: known errors 1, 2.5, 0, 0.5, invalid, 3, 0
+    truth = np.array([[0.0, 10.0, 10.0, 20.0],
+                      [5.0, 5.0, 30.0, 30.0]])
+    estimate = np.array([[99.0, 11.0, 12.5, 20.0],
+                         [5.5, np.nan, 27.0, 30.0]])
+    # bins [0, 0.25) [0.25, 0.5) [0.5, 1) [1, 2) [2, 4) [4, 8) [8, inf): the invalid one last
+    assert error_histogram(estimate, truth).tolist() == [2, 0, 1, 1, 2, 0, 1]
+    assert error_histogram(estimate, truth, edges=(0, 1, 3)).tolist() == [3, 4]
+    with pytest.raises(ValueError, match="increase from 0"):
+        error_histogram(estimate, truth, edges=(0, 2, 1))
 
 
 def test_nonoccluded_from_other_view_by_hand():

@@ -1,4 +1,5 @@
-"""``mvtools evaluate``: score a video against a reference, or a disparity map against ground truth."""
+"""``mvtools evaluate``: score a video against a reference, a disparity map against ground
+truth, or a depth video against a ground-truth depth video."""
 
 from __future__ import annotations
 
@@ -12,11 +13,16 @@ import numpy as np
 from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import ProgramCommand, frame_range_options, program, video_format_options
 from mvtools.cli.progress import Progress
-from mvtools.errors import DataError, UsageError
-from mvtools.io.images import read_image
 from mvtools.datasets import nonoccluded_pixels
+from mvtools.errors import ConfigError, DataError, UsageError
+from mvtools.geometry.depth import depth_to_z, z_to_disparity
+from mvtools.io.atomic import atomic_output
+from mvtools.io.files import read_json
+from mvtools.io.images import read_image
+from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.middlebury import middlebury_set_for, read_ground_truth
-from mvtools.metrics import iv_psnr, plane_psnr, score_disparity, ssim, yuv_psnr
+from mvtools.metrics import (ERROR_BIN_EDGES, error_histogram, iv_psnr, plane_psnr,
+                             score_disparity, ssim, yuv_psnr)
 
 VIDEO_METRICS = ("psnr", "ssim", "ivpsnr")
 
@@ -42,27 +48,66 @@ VIDEO_METRICS = ("psnr", "ssim", "ivpsnr")
 @click.option("--other-gt", type=click.Path(dir_okay=False), default=None,
               help="Ground truth of the other view: non-occluded pixels are those it confirms "
                    "within 1 px (Middlebury 2005 rule).")
+@click.option("--depth", "depth_videos", is_flag=True,
+              help="Score TEST, a depth video, against REFERENCE, a ground-truth depth video "
+                   "(MPEG depth values), as disparities towards --neighbour.")
+@click.option("--cameras", type=click.Path(dir_okay=False), default=None,
+              help="--depth: the camera file of --camera and --neighbour.")
+@click.option("--camera", default=None, help="--depth: the camera whose depth is scored.")
+@click.option("--neighbour", default=None,
+              help="--depth: the camera the disparities point to (rectified cameras: "
+                   "disparity = fx * baseline / z).")
+@click.option("--reference-range", nargs=2, type=float, default=None, metavar="ZNEAR ZFAR",
+              help="--depth: Znear, Zfar of REFERENCE (default: its sidecar REFERENCE.json, "
+                   "as estimate-depth writes).")
+@click.option("--test-range", nargs=2, type=float, default=None, metavar="ZNEAR ZFAR",
+              help="--depth: Znear, Zfar of TEST (default: its sidecar TEST.json).")
 @click.option("--threshold", "thresholds", type=float, multiple=True,
               help="Error thresholds in pixels (repeatable; default 1 and 2).")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
+@click.option("--json-file", type=click.Path(dir_okay=False), default=None,
+              help="Also write the scores as JSON to this file (the table still printed).")
 @program
 def command(reference, test, metrics, size, pix_fmt, start_frame, frame_count, disparity,
-            gt_scale, disparity_scale, nonocc_mask, other_gt, thresholds, as_json):
+            gt_scale, disparity_scale, nonocc_mask, other_gt, depth_videos, cameras, camera,
+            neighbour, reference_range, test_range, thresholds, as_json, json_file):
     """Compare TEST with REFERENCE and print the scores.
 
     Videos (raw YUV or Y4M): PSNR per plane, YUV-PSNR (6:1:1), SSIM and IV-PSNR per
     frame and their mean. With --disparity: the Middlebury scores (percentage of
     pixels whose error exceeds each threshold, over all known pixels and over
-    non-occluded ones).
+    non-occluded ones) and the histogram of the errors. With --depth: the same for
+    every frame of two depth videos, their depths turned into disparities towards
+    --neighbour.
     """
+    thresholds = thresholds or (1.0, 2.0)
+    if disparity and depth_videos:
+        raise UsageError("--disparity and --depth exclude each other")
     if disparity:
         result = _evaluate_disparity(Path(reference), Path(test), gt_scale, disparity_scale,
-                                     nonocc_mask, other_gt, thresholds or (1.0, 2.0))
-        click.echo(_to_json(result) if as_json else _disparity_table(result))
+                                     nonocc_mask, other_gt, thresholds)
+        _report(result, _disparity_table, as_json, json_file)
+        return
+    if depth_videos:
+        focal, baseline = _focal_and_baseline(cameras, camera, neighbour)
+        result = _evaluate_depth(
+            Path(reference), Path(test), _depth_range(reference, reference_range, "--reference-range"),
+            _depth_range(test, test_range, "--test-range"), focal, baseline, size, pix_fmt,
+            start_frame, frame_count, thresholds)
+        result["neighbour"] = neighbour
+        _report(result, _depth_table, as_json, json_file)
         return
     result = _evaluate_video(reference, test, size, pix_fmt, start_frame, frame_count,
                              metrics or VIDEO_METRICS)
-    click.echo(_to_json(result) if as_json else _video_table(result))
+    _report(result, _video_table, as_json, json_file)
+
+
+def _report(result: dict, table, as_json: bool, json_file) -> None:
+    """Print the scores (a table, or JSON) and write their JSON to ``json_file``."""
+    if json_file is not None:
+        with atomic_output(json_file, "w") as handle:
+            handle.write(_to_json(result) + "\n")
+    click.echo(_to_json(result) if as_json else table(result))
 
 
 def _evaluate_video(reference, test, size, pix_fmt, start_frame, frame_count, metrics) -> dict:
@@ -148,8 +193,10 @@ def _evaluate_disparity(gt_path: Path, disparity_path: Path, gt_scale, disparity
                                      other_view_path=other_gt)
     score = score_disparity(estimate, ground_truth, known=known, nonoccluded=nonoccluded,
                             thresholds=thresholds)
+    histogram = error_histogram(estimate, ground_truth, known=known)
     return {
         "ground_truth": str(gt_path), "disparity": str(disparity_path), "gt_scale": gt_scale,
+        "histogram": _histogram(histogram),
         "bad_all": {f"{t:g}": v for t, v in score.bad_all.items()},
         "bad_nonocc": None if score.bad_nonocc is None
         else {f"{t:g}": v for t, v in score.bad_nonocc.items()},
@@ -183,4 +230,109 @@ def _disparity_table(result: dict) -> str:
     lines.append(f"mean abs error {result['mean_abs_error']:.3f} px, RMS {result['rms_error']:.3f} px"
                  + (f", {result['invalid_pixels']} known pixels without estimate"
                     if result["invalid_pixels"] else ""))
-    return "\n".join(lines)
+    return "\n".join(lines + _histogram_lines(result["histogram"]))
+
+
+def _histogram(counts: np.ndarray) -> dict:
+    """The error histogram as the JSON output holds it: bins, pixels and percentages."""
+    total = max(int(counts.sum()), 1)
+    edges = ERROR_BIN_EDGES
+    return {"bins": [_bin_name(low, high) for low, high in zip(edges, edges[1:])],
+            "pixels": [int(count) for count in counts],
+            "percent": [100.0 * float(count) / total for count in counts]}
+
+
+def _bin_name(low: float, high: float) -> str:
+    return f">= {low:g}" if math.isinf(high) else f"{low:g}-{high:g}"
+
+
+def _histogram_lines(histogram: dict) -> list[str]:
+    return ["error px " + "".join(f"{name:>10}" for name in histogram["bins"]),
+            "pixels % " + "".join(f"{value:>10.2f}" for value in histogram["percent"])]
+
+
+def _focal_and_baseline(cameras, camera: str | None, neighbour: str | None) -> tuple[float, float]:
+    """fx of --camera and its distance to --neighbour, from --cameras."""
+    for option, value in (("--cameras", cameras), ("--camera", camera), ("--neighbour", neighbour)):
+        if value is None:
+            raise UsageError(f"--depth needs {option}")
+    rig = read_camera_file(cameras)
+    for option, name in (("--camera", camera), ("--neighbour", neighbour)):
+        if name not in rig:
+            raise ConfigError(f"{option}: no camera {name!r} (the file has "
+                              f"{', '.join(rig)})", path=cameras)
+    baseline = float(np.linalg.norm(rig[camera].t - rig[neighbour].t))
+    if not baseline > 0:
+        raise ConfigError(f"cameras {camera!r} and {neighbour!r} are at the same place",
+                          path=cameras)
+    return float(rig[camera].K[0, 0]), baseline
+
+
+def _depth_range(video: str, given, option: str) -> tuple[float, float]:
+    """Znear, Zfar given on the command line, or else from the video's JSON sidecar."""
+    if given is not None:
+        return float(given[0]), float(given[1])
+    sidecar = Path(str(video) + ".json")
+    if not sidecar.exists():
+        raise UsageError(f"the depth range is unknown: give {option} ZNEAR ZFAR (no {sidecar})",
+                         path=video)
+    document = read_json(sidecar)
+    if not isinstance(document, dict) or "NearestDepthValue" not in document:
+        raise ConfigError("no NearestDepthValue in the sidecar", path=sidecar)
+    if document.get("DepthType", 0) != 0:
+        raise DataError("depth from the world origin (DepthType 1) is not scored; "
+                        "give depth along the camera's axis", path=sidecar)
+    far = document.get("FarthestDepthValue")
+    return float(document["NearestDepthValue"]), math.inf if far is None else float(far)
+
+
+def _evaluate_depth(reference: Path, test: Path, reference_range, test_range, focal: float,
+                    baseline: float, size, pix_fmt, start_frame, frame_count,
+                    thresholds) -> dict:
+    ranges = {"reference": reference_range, "test": test_range}
+    with open_input_video(reference, size, pix_fmt) as ref_video, \
+            open_input_video(test, size, pix_fmt) as test_video:
+        if (test_video.format.width, test_video.format.height) != \
+                (ref_video.format.width, ref_video.format.height):
+            raise DataError(f"the test video is {test_video.format}, the reference "
+                            f"{ref_video.format}", path=test)
+        frames = frame_range([ref_video, test_video], start_frame, frame_count)
+        progress = Progress(len(frames), "depth frames scored")
+        rows, histogram = [], 0
+        for index in frames:
+            truth, estimate = (
+                z_to_disparity(depth_to_z(video.read(index)[0], *ranges[name],
+                                          bits=video.format.bits), focal, baseline)
+                for name, video in (("reference", ref_video), ("test", test_video)))
+            try:
+                score = score_disparity(estimate, truth, thresholds=thresholds)
+            except ValueError as error:
+                raise DataError(f"frame {index}: {error}", path=reference) from None
+            rows.append({"frame": index,
+                         **{f"bad {t:g}": v for t, v in score.bad_all.items()},
+                         "mean abs": score.mean_abs_error, "RMS": score.rms_error})
+            histogram = histogram + error_histogram(estimate, truth)
+            progress.advance()
+    columns = [key for key in rows[0] if key != "frame"]
+    return {"reference": str(reference), "test": str(test),
+            "reference_range": list(reference_range), "test_range": list(test_range),
+            "focal": focal, "baseline": baseline, "frames": rows,
+            "mean": {key: float(np.mean([row[key] for row in rows])) for key in columns},
+            "histogram": _histogram(histogram)}
+
+
+def _depth_table(result: dict) -> str:
+    columns = list(result["mean"])
+    lines = [f"reference {result['reference']} (Znear, Zfar {_range(result['reference_range'])})",
+             f"test      {result['test']} (Znear, Zfar {_range(result['test_range'])})",
+             f"disparity towards {result['neighbour']}: fx {result['focal']:.2f} px x baseline "
+             f"{result['baseline']:.4g} / z; bad t: % of pixels with an error above t px",
+             " frame" + "".join(f"{name:>10}" for name in columns)]
+    for row in result["frames"]:
+        lines.append(f"{row['frame']:>6}" + "".join(f"{row[name]:>10.3f}" for name in columns))
+    lines.append("  mean" + "".join(f"{result['mean'][name]:>10.3f}" for name in columns))
+    return "\n".join(lines + _histogram_lines(result["histogram"]))
+
+
+def _range(values) -> str:
+    return ", ".join(f"{value:g}" for value in values)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 from pathlib import Path
 
 import click
@@ -14,6 +15,7 @@ from mvtools.color import yuv_to_rgb
 from mvtools.color.levels import depth_preview
 from mvtools.errors import UsageError
 from mvtools.io.atomic import atomic_output
+from mvtools.io.files import read_json
 from mvtools.io.images import encode_image, read_image
 from mvtools.io.yuv import format_from_name, open_video
 from mvtools.report import Picture, Plot, Section, Table, bar_plot, html_page, line_plot
@@ -33,8 +35,9 @@ MAX_PICTURES = 100
 def command(build_dir, output, title):
     """Write an HTML page of the results under BUILD_DIR: calibration errors per capture
     (plot and table) with the corner pictures, the first frame of every video (depth maps
-    colour-mapped), the scores mvtools evaluate wrote (*.scores), and rate-distortion
-    curves with Bjontegaard deltas from mvtools encode. Pictures are embedded: the page is
+    colour-mapped), the scores mvtools evaluate wrote (*.scores), the disparity error
+    histograms of its --depth and --disparity scores (*.errors.json, from --json), and
+    rate-distortion curves with Bjontegaard deltas from mvtools encode. Pictures are embedded: the page is
     one file.
     """
     folder = Path(build_dir)
@@ -42,7 +45,7 @@ def command(build_dir, output, title):
         raise UsageError("no such folder", path=folder)
     output = Path(output) if output else folder / "report.html"
     sections = [_calibrations(folder), _pictures(folder, output), _scores(folder),
-                _compressions(folder)]
+                _depth_errors(folder), _compressions(folder)]
     page = html_page(title or f"mvtools report of {folder.resolve().name}", sections)
     with atomic_output(output, "w") as handle:
         handle.write(page)
@@ -89,7 +92,11 @@ def _first_frame(path: Path) -> np.ndarray | None:
 
 def _pictures(folder: Path, output: Path) -> Section:
     section = Section("Pictures (first frames; depth maps colour-mapped, red near)")
+    # the many decoded videos of a rate-distortion run are shown by its curves instead
+    encoded = {path.parent for path, _ in _reports(folder, "modes")}
     for path in sorted(folder.rglob("*.yuv")):
+        if encoded.intersection(path.parents):
+            continue
         if len(section.items) >= MAX_PICTURES:
             LOG.warning("%s: more than %d videos; the report shows the first", folder,
                         MAX_PICTURES)
@@ -135,6 +142,36 @@ def _comparison(reference: Path, test: Path, caption: str) -> Picture | None:
     error = np.clip(np.abs(luma[0] - luma[1]) * 4, 0, 255).astype(np.uint8)
     side_by_side = np.hstack([*pictures, np.repeat(error[..., None], 3, axis=2)])
     return Picture(f"{caption}: {reference.name} | {test.name} | error", encode_image(side_by_side))
+
+
+def _depth_errors(folder: Path) -> Section:
+    """The error histograms of ``mvtools evaluate --depth/--disparity --json`` outputs
+    (``*.errors.json``) in one plot, and their scores in one table."""
+    section = Section("Depth and disparity errors")
+    histograms, rows = {}, []
+    for path in sorted(folder.rglob("*.errors.json")):
+        document = read_json(path)
+        if not isinstance(document, dict) or "histogram" not in document:
+            LOG.warning("%s: not the JSON of mvtools evaluate --depth/--disparity; left out",
+                        path)
+            continue
+        name = path.name[:-len(".errors.json")]
+        histograms[name] = document["histogram"]
+        mean = document.get("mean") or {
+            **{f"bad {t}": value for t, value in document["bad_all"].items()},
+            "mean abs": document["mean_abs_error"], "RMS": document["rms_error"]}
+        rows.append((name, *(mean.get(key, math.nan)
+                             for key in ("bad 1", "bad 2", "mean abs", "RMS"))))
+    if not histograms:
+        return section
+    bins = next(iter(histograms.values()))["bins"]
+    groups = {label: [histogram["percent"][i] for histogram in histograms.values()]
+              for i, label in enumerate(bins)}
+    section.items.append(Plot("% of pixels per absolute disparity error (px)",
+                              bar_plot(groups, y_label="% of pixels", series=list(histograms))))
+    section.items.append(Table("disparity errors against the ground truth",
+                               ("depth", "bad 1 %", "bad 2 %", "mean abs px", "RMS px"), rows))
+    return section
 
 
 def _compressions(folder: Path) -> Section:

@@ -137,6 +137,51 @@ def score_disparity(disparity: np.ndarray, ground_truth: np.ndarray, *,
     )
 
 
+#: Bin edges (pixels) of :func:`error_histogram`: fine where good matchers are, coarse
+#: beyond, the last bin open (it also takes the pixels without an estimate).
+ERROR_BIN_EDGES = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, np.inf)
+
+
+def error_histogram(disparity: np.ndarray, ground_truth: np.ndarray, *,
+                    known: np.ndarray | None = None,
+                    edges: Sequence[float] = ERROR_BIN_EDGES) -> np.ndarray:
+    """How many known pixels have an absolute disparity error in each bin.
+
+    Bin ``i`` holds the errors ``edges[i] <= error < edges[i + 1]``; an estimate that
+    is not finite counts in the last bin, so the counts add up to the known pixels.
+
+    Parameters
+    ----------
+    disparity, ground_truth : ndarray, shape (H, W)
+        Estimated and true disparity in pixels.
+    known : ndarray of bool, shape (H, W), optional
+        Pixels with known ground truth; by default where ``ground_truth`` is finite and
+        non-zero.
+    edges : sequence of float
+        Increasing bin edges from 0; the last may be ``inf``.
+
+    Returns
+    -------
+    ndarray of int64, shape (len(edges) - 1,)
+    """
+    disparity = np.asarray(disparity, dtype=np.float64)
+    ground_truth = np.asarray(ground_truth, dtype=np.float64)
+    if disparity.ndim != 2 or disparity.shape != ground_truth.shape:
+        raise ValueError(f"need two 2-D maps of one shape, got {disparity.shape} and "
+                         f"{ground_truth.shape}")
+    edges = np.asarray(edges, dtype=np.float64)
+    if edges.size < 2 or edges[0] != 0 or np.any(np.diff(edges) <= 0):
+        raise ValueError(f"edges must increase from 0 with at least two values, got {edges}")
+    known = _mask(known, disparity.shape, "known") if known is not None \
+        else known_ground_truth(ground_truth)
+    with np.errstate(invalid="ignore"):
+        error = np.abs(disparity - ground_truth)[known & np.isfinite(ground_truth)]
+    error = np.where(np.isfinite(error), error, np.inf)
+    # searchsorted puts error e in bin i with edges[i] <= e < edges[i+1]; inf goes last
+    bins = np.minimum(np.searchsorted(edges, error, side="right") - 1, edges.size - 2)
+    return np.bincount(bins, minlength=edges.size - 1).astype(np.int64)
+
+
 def nonoccluded_from_other_view(gt_left: np.ndarray, gt_right: np.ndarray, *,
                                 tolerance: float = 1.0) -> np.ndarray:
     """Non-occluded pixels of the left view, by checking the right view's ground truth.
