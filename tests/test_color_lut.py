@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from mvtools.color.correct import correct_planes, view_tables, working_codes
-from mvtools.color.correspondence import common_view, disparity_samples, overlap_samples
+from mvtools.color.correspondence import (common_view, common_view_samples, disparity_samples,
+                                          overlap_samples)
 from mvtools.color.lut import (apply_lut, average_target, compose_luts, fit_lut, histogram_lut,
                                identity_lut, invert_lut)
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
@@ -182,3 +183,14 @@ def test_common_view_of_two_parallel_cameras_is_hand_computed():
     np.testing.assert_array_equal(seen, np.broadcast_to(np.arange(256) >= 12, (192, 256)))
     back = common_view(right, left, (192, 256), 4.0)
     np.testing.assert_array_equal(back, np.broadcast_to(np.arange(256) <= 243, (192, 256)))
+
+
+def test_common_view_samples_take_the_harmonic_mean_depth():
+    K = [[240.0, 0.0, 127.5], [0.0, 240.0, 95.5], [0.0, 0.0, 1.0]]
+    left = Camera("left", K=K, t=[-0.2, 0.0, 0.0])
+    right = Camera("right", K=K, t=[0.0, 0.0, 0.0])
+    columns = np.broadcast_to(np.arange(256, dtype=np.float64)[None, :, None], (192, 256, 1))
+    # Znear 3, Zfar 6: harmonic mean 4 m, 12 px of disparity as above
+    view, target = common_view_samples(columns, left, columns + 1000, right, depth_range=(3, 6))
+    assert view.shape == (192 * 244, 1) and target.shape == (192 * 244, 1)
+    assert view.min() == 12 and target.max() == 1243

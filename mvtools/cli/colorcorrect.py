@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import contextlib
 import logging
-from dataclasses import replace
 from pathlib import Path
 
 import click
@@ -19,7 +18,8 @@ from mvtools.color.chart import (delta_e_2000, detect_chart, fit_chart_correctio
                                  linear_rgb_to_lab, sample_patches, srgb_to_linear)
 from mvtools.color.correct import (SPACES, TARGETS, channel_names, correct_planes, view_tables,
                                    working_codes)
-from mvtools.color.correspondence import common_view, corresponding_samples, warp_to_target
+from mvtools.color.correspondence import (common_view_samples, corresponding_samples,
+                                          warp_to_target)
 from mvtools.color.lut import apply_lut
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import depth_to_z
@@ -333,16 +333,9 @@ class _Matcher:
         if self.method == "histograms":
             if self.cameras is None:
                 return picture.reshape(-1, channels), reference_picture.reshape(-1, channels)
-            # the field of view both cameras share, for points at the typical depth
-            reference_camera = self.cameras[self.names[self.reference]]
-            camera = self.cameras[name]
-            znear, zfar = self.depth_range
-            z = 2.0 / (1.0 / znear + 1.0 / zfar)
-            size = (picture.shape[1], picture.shape[0])
-            seen = common_view(camera, replace(reference_camera, size=size), picture.shape[:2], z)
-            seen_back = common_view(reference_camera, replace(camera, size=size),
-                                    picture.shape[:2], z)
-            return picture[seen], reference_picture[seen_back]
+            return common_view_samples(picture, self.cameras[name], reference_picture,
+                                       self.cameras[self.names[self.reference]],
+                                       depth_range=self.depth_range)
         reference_name = self.names[self.reference]
         pair = corresponding_samples(picture, self.cameras[name], self._z(name, index),
                                      reference_picture, self.cameras[reference_name],

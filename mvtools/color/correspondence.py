@@ -8,6 +8,8 @@ two surfaces, are left out.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import cv2
 import numpy as np
 
@@ -15,6 +17,7 @@ from mvtools.geometry.camera import Camera
 from mvtools.geometry.projection import pixel_grid, reproject
 
 __all__ = ["corresponding_samples", "warp_to_target", "disparity_samples", "common_view",
+           "common_view_samples",
            "overlap_samples"]
 
 
@@ -201,6 +204,33 @@ def common_view(camera: Camera, other: Camera, shape: tuple[int, int], z: float)
     width, height = other.size
     with np.errstate(invalid="ignore"):
         return (z2 > 0) & (u2 >= -0.5) & (u2 <= width - 0.5) & (v2 >= -0.5) & (v2 <= height - 0.5)
+
+
+def common_view_samples(view: np.ndarray, view_camera: Camera, target: np.ndarray,
+                        target_camera: Camera, *, depth_range: tuple[float, float]
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """Samples of two views over the field of view they share, when no depth map tells
+    where each point is: the pixels of ``view`` that ``target_camera`` sees and those of
+    ``target`` that ``view_camera`` sees, for scene points at the harmonic mean of Znear
+    and Zfar (the middle of the range in inverse depth).
+
+    Parameters
+    ----------
+    view, target : ndarray, shape (H, W, C)
+        Pictures of one size; the cameras take it as theirs.
+    view_camera, target_camera : Camera
+    depth_range : (znear, zfar)
+
+    Returns
+    -------
+    view_samples, target_samples : ndarray, shapes (N, C) and (M, C)
+    """
+    znear, zfar = depth_range
+    z = 2.0 / (1.0 / znear + 1.0 / zfar)
+    size = (view.shape[1], view.shape[0])
+    seen = common_view(view_camera, replace(target_camera, size=size), view.shape[:2], z)
+    seen_back = common_view(target_camera, replace(view_camera, size=size), target.shape[:2], z)
+    return view[seen], target[seen_back]
 
 
 def overlap_samples(image: np.ndarray, *, columns: tuple[int, int] | None = None) -> np.ndarray:
