@@ -8,7 +8,7 @@ import cv2
 import numpy as np
 import pytest
 
-from mvtools.metrics import global_color_shift, iv_psnr, plane_psnr, psnr, ssim, yuv_psnr
+from mvtools.metrics import frame_scores, global_color_shift, iv_psnr, plane_psnr, psnr, ssim, yuv_psnr
 from shared_data import shared_data
 
 # ---------------------------------------------------------------------------- PSNR
@@ -295,3 +295,17 @@ def test_iv_psnr_rejects_bad_input():
         iv_psnr(frame, (frame[0].astype(np.uint16) * 3,) + frame[1:], bits=8)
     with pytest.raises(ValueError, match="integer"):
         iv_psnr(frame, tuple(p.astype(np.float32) for p in frame), bits=8)
+
+
+def test_frame_scores_by_name_and_by_hand():
+    reference = (np.full((4, 6), 100, np.uint8), np.full((2, 3), 128, np.uint8),
+                 np.full((2, 3), 128, np.uint8))
+    test = (reference[0] + np.uint8(5), *reference[1:])
+    scores = frame_scores(reference, test, bits=8, metrics=("psnr",))
+    assert list(scores) == ["Y-PSNR", "U-PSNR", "V-PSNR", "YUV-PSNR"]
+    assert scores["Y-PSNR"] == pytest.approx(10 * math.log10(255 ** 2 / 25))
+    assert scores["U-PSNR"] == math.inf
+    # luma alone: no YUV-PSNR
+    assert list(frame_scores(reference[:1], test[:1], bits=8, metrics=("psnr",))) == ["Y-PSNR"]
+    with pytest.raises(ValueError, match="unknown metric 'vmaf'"):
+        frame_scores(reference, test, bits=8, metrics=("psnr", "vmaf"))

@@ -15,6 +15,7 @@ import click
 import numpy as np
 
 from mvtools.cli.configs import load_config
+from mvtools.cli.evaluate import score_videos
 from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import ProgramCommand, frame_range_options, program, video_format_options
 from mvtools.cli.pack import write_packed, write_unpacked
@@ -23,7 +24,7 @@ from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import atomic_output
 from mvtools.io.encoders import ENCODERS, decode_hevc, encode_hevc, program_path
 from mvtools.io.yuv import YuvFormat, open_video, open_writer
-from mvtools.metrics import bd_psnr, bd_rate, iv_psnr, plane_psnr, yuv_psnr
+from mvtools.metrics import bd_psnr, bd_rate
 from mvtools.pack import plan_layout
 from mvtools.params import VsrsParams, param_specs
 
@@ -180,15 +181,10 @@ def _scores(originals, decoded) -> dict:
     """Mean over frames of each stream's Y-PSNR and YUV-PSNR against its original."""
     scores = {}
     for key, (path, fmt) in originals.items():
-        luma, weighted = [], []
         with open_video(path, fmt) as reference, open_video(decoded[key], fmt) as test:
-            for index in range(len(reference)):
-                planes, coded = reference.read(index), test.read(index)
-                luma.append(plane_psnr(planes[:1], coded[:1], bits=fmt.bits)[0])
-                if len(planes) == 3:
-                    weighted.append(yuv_psnr(planes, coded, bits=fmt.bits))
-        scores[f"{key[0]} {key[1]}"] = {"y_psnr": float(np.mean(luma)),
-                                        "yuv_psnr": float(np.mean(weighted)) if weighted else None}
+            mean = score_videos(reference, test, range(len(reference)), ("psnr",))["mean"]
+        scores[f"{key[0]} {key[1]}"] = {"y_psnr": mean["Y-PSNR"],
+                                        "yuv_psnr": mean.get("YUV-PSNR")}
     return scores
 
 
@@ -232,13 +228,9 @@ def _synthesis_scores(synthesis: dict, decoded: dict, out: Path, folder: Path,
                 frames)
     params = load_config(VsrsParams, synthesis["config"]).params
     fmt = YuvFormat(params.source_width, params.source_height)
-    luma, immersive = [], []
     with open_video(reference, fmt) as truth, open_video(test, fmt) as result:
-        for index in range(len(truth)):
-            planes, coded = truth.read(index), result.read(index)
-            luma.append(plane_psnr(planes[:1], coded[:1], bits=8)[0])
-            immersive.append(iv_psnr(planes, coded, bits=8))
-    return {"y_psnr": float(np.mean(luma)), "iv_psnr": float(np.mean(immersive))}
+        mean = score_videos(truth, result, range(len(truth)), ("psnr", "ivpsnr"))["mean"]
+    return {"y_psnr": mean["Y-PSNR"], "iv_psnr": mean["IV-PSNR"]}
 
 
 def _report(results: dict, modes, qps) -> dict:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from pathlib import Path
 
 import click
@@ -21,11 +22,8 @@ from mvtools.io.files import read_json
 from mvtools.io.images import read_image
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.middlebury import middlebury_set_for, read_ground_truth
-from mvtools.metrics import (ERROR_BIN_EDGES, error_histogram, iv_psnr, plane_psnr,
-                             score_disparity, ssim, yuv_psnr)
-
-VIDEO_METRICS = ("psnr", "ssim", "ivpsnr")
-
+from mvtools.io.yuv import VideoReader
+from mvtools.metrics import VIDEO_METRICS, ERROR_BIN_EDGES, error_histogram, frame_scores, score_disparity
 
 @click.command(name="evaluate", cls=ProgramCommand)
 @click.argument("reference", type=click.Path(dir_okay=False))
@@ -118,31 +116,25 @@ def _evaluate_video(reference, test, size, pix_fmt, start_frame, frame_count, me
             raise DataError(f"the test video is {test_video.format}, the reference {fmt}",
                             path=test)
         frames = frame_range([ref_video, test_video], start_frame, frame_count)
-        progress = Progress(len(frames), "frames scored")
-        rows = []
-        for index in frames:
-            rows.append({"frame": index,
-                         **_frame_scores(ref_video.read(index), test_video.read(index), fmt.bits, metrics)})
-            progress.advance()
+        scores = score_videos(ref_video, test_video, frames, metrics)
+    return {"reference": str(reference), "test": str(test), "format": str(fmt), **scores}
+
+
+def score_videos(reference: VideoReader, test: VideoReader, frames: Sequence[int],
+                 metrics: Sequence[str] = VIDEO_METRICS) -> dict:
+    """Scores of the frames of ``test`` against ``reference`` (same format), with progress
+    on stderr: ``{"frames": [{"frame": index, name: score, ...}, ...], "mean": {name:
+    mean over the frames}}``, names as :func:`mvtools.metrics.frame_scores` gives them."""
+    progress = Progress(len(frames), "frames scored")
+    rows = []
+    for index in frames:
+        rows.append({"frame": index, **frame_scores(reference.read(index), test.read(index),
+                                                    bits=reference.format.bits,
+                                                    metrics=metrics)})
+        progress.advance()
     columns = [key for key in rows[0] if key != "frame"]
-    mean = {key: float(np.mean([row[key] for row in rows])) for key in columns}
-    return {"reference": str(reference), "test": str(test), "format": str(fmt),
-            "frames": rows, "mean": mean}
-
-
-def _frame_scores(ref_planes, test_planes, bits: int, metrics) -> dict[str, float]:
-    scores = {}
-    if "psnr" in metrics:
-        for name, value in zip(("Y-PSNR", "U-PSNR", "V-PSNR"),
-                               plane_psnr(ref_planes, test_planes, bits=bits)):
-            scores[name] = value
-        if len(ref_planes) == 3:
-            scores["YUV-PSNR"] = yuv_psnr(ref_planes, test_planes, bits=bits)
-    if "ssim" in metrics:
-        scores["Y-SSIM"] = ssim(ref_planes[0], test_planes[0], max_value=2 ** bits - 1)
-    if "ivpsnr" in metrics:
-        scores["IV-PSNR"] = iv_psnr(ref_planes, test_planes, bits=bits)
-    return scores
+    return {"frames": rows,
+            "mean": {key: float(np.mean([row[key] for row in rows])) for key in columns}}
 
 
 def _video_table(result: dict) -> str:
