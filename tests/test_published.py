@@ -5,6 +5,7 @@ configs/middlebury/published_thresholds.txt accepts, which the target also print
 
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 from pathlib import Path
@@ -59,6 +60,16 @@ def test_published_pipeline_reaches_its_thresholds(published):
         y_psnr, iv_psnr = _mean_scores(folder / case / f"{case}.scores")
         assert y_psnr >= least_y and iv_psnr >= least_iv, (case, y_psnr, iv_psnr)
         assert f"{case:<8} Y-PSNR {y_psnr:6.2f} (least {least_y:5.2f})" in completed.stdout
+
+
+def test_published_pipeline_scores_the_depth_behind_cones(published):
+    completed, folder = published
+    assert completed.returncode == 0, completed.stderr[-3000:]
+    errors = json.loads((folder / "cones" / "im2.errors.json").read_text())
+    # the bar for Cones: bad 1.0 at most 3 % of the non-occluded pixels
+    assert errors["bad_nonocc"]["1"] <= 3.0
+    assert sum(errors["histogram"]["pixels"]) == errors["known_pixels"]
+    assert "<h2>Depth and disparity errors" in (folder / "report.html").read_text()
 
 
 def test_published_pipeline_times_every_stage_and_synthesizes_kendo(published):
