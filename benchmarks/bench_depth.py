@@ -3,6 +3,9 @@ over each set's scored region and seconds per pair, side by side; then end to en
 Cones im4 synthesized (mvtools synthesize, 448x368, general and 1D mode, Precision 2)
 from the depth of im2 and im6 estimated from that pair, Y-PSNR against the real im4.
 
+Every method runs on the default AD-census cost; the methods of COST_METHODS run on the
+census-gradient cost too, labelled "method+census-gradient".
+
 Environment: MVTOOLS_BENCH_METHODS=sgm,graphcut (default: every method),
 MVTOOLS_BENCH_SETS=tsukuba,cones (default: the seven 2001/2003/2005 sets).
 """
@@ -20,7 +23,7 @@ from common import DATA, report
 from mvtools.datasets import (cones_multiview, estimate_cones_disparities,
                               load_middlebury_ground_truth, middlebury_pair,
                               opencv_sgbm_reference, score_middlebury, write_cones_case)
-from mvtools.depth import PAIR_METHODS, estimate_disparity
+from mvtools.depth import COSTS, PAIR_METHODS, estimate_disparity
 from mvtools.io.middlebury import MIDDLEBURY_SETS
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.metrics import psnr
@@ -29,6 +32,16 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from synthesize_runner import run_synthesize  # noqa: E402
 
 SETS = ("tsukuba", "venus", "teddy", "cones", "Art", "Dolls", "Moebius")
+
+#: methods also measured with the census-gradient cost
+COST_METHODS = ("bp", "graphcut")
+
+
+def _configurations(methods: list[str]) -> list[tuple[str, str, str]]:
+    """(label, method, cost) of every measured combination."""
+    return [(method, method, "ad-census") for method in methods] + [
+        (f"{method}+{cost}", method, cost) for cost in COSTS if cost != "ad-census"
+        for method in COST_METHODS if method in methods]
 
 
 def _timed(function):
@@ -43,8 +56,9 @@ def main() -> None:
     root = DATA / "middlebury"
     # compile every kernel once so that no timing includes numba's compilation
     left, right = middlebury_pair(root, "tsukuba")
-    for method in methods:
-        estimate_disparity(left[:64, :96], right[:64, :96], max_disparity=15, method=method)
+    for _, method, cost in _configurations(methods):
+        estimate_disparity(left[:64, :96], right[:64, :96], max_disparity=15, method=method,
+                           cost=cost)
     rows = []
     for name in names:
         entry = MIDDLEBURY_SETS[name]
@@ -53,12 +67,12 @@ def main() -> None:
         sgbm, sgbm_seconds = _timed(lambda: opencv_sgbm_reference(
             left, right, disparities=entry.disparities))
         sgbm_bad = score_middlebury(sgbm, truth, name)
-        for method in methods:
+        for label, method, cost in _configurations(methods):
             ours, seconds = _timed(lambda: estimate_disparity(
-                left, right, max_disparity=entry.disparities - 1, method=method))
-            rows.append((f"{name} {method} bad 1.0 %", score_middlebury(ours, truth, name),
+                left, right, max_disparity=entry.disparities - 1, method=method, cost=cost))
+            rows.append((f"{name} {label} bad 1.0 %", score_middlebury(ours, truth, name),
                          "OpenCV StereoSGBM", sgbm_bad))
-            rows.append((f"{name} {method} seconds", seconds, "OpenCV StereoSGBM",
+            rows.append((f"{name} {label} seconds", seconds, "OpenCV StereoSGBM",
                          sgbm_seconds))
     end_to_end(methods, rows)
     report(rows)
@@ -83,11 +97,11 @@ def end_to_end(methods: list[str], rows: list) -> None:
     root = DATA / "middlebury"
     baseline = estimate_cones_disparities(
         root, lambda left, right, count: opencv_sgbm_reference(left, right, disparities=count))
-    for method in methods:
+    for configuration, method, cost in _configurations(methods):
         ours = estimate_cones_disparities(root, lambda left, right, count: estimate_disparity(
-            left, right, max_disparity=count - 1, method=method))
+            left, right, max_disparity=count - 1, method=method, cost=cost))
         for mode, label in ((0, "general"), (1, "1D")):
-            rows.append((f"Cones im4, {method} depth, {label} (dB; bar 30.5)",
+            rows.append((f"Cones im4, {configuration} depth, {label} (dB; bar 30.5)",
                          cones_im4_psnr(ours, mode), "SGBM depth, same synthesis",
                          cones_im4_psnr(baseline, mode)))
 

@@ -49,8 +49,9 @@ def known_estimate(monkeypatch):
     calls = []
 
     def estimate_disparity(left, right, *, max_disparity, min_disparity=0, method="bp",
-                           subpixel=False, segment_planes=True, segmentation=False, view="left"):
-        calls.append((left.shape, left.dtype, max_disparity, min_disparity, method,
+                           cost="ad-census", subpixel=False, segment_planes=True,
+                           segmentation=False, view="left"):
+        calls.append((left.shape, left.dtype, max_disparity, min_disparity, method, cost,
                       segment_planes))
         height, width = left.shape[:2]
         return np.tile(estimate, (height // 2, width // 4))
@@ -73,7 +74,7 @@ def test_outputs_hold_the_estimate_inf_in_pfm_zero_in_png(tmp_path, pair, known_
                           "--min-disparity", 1, "--method", "local",
                           "-o", tmp_path / "d.pfm", "--png", tmp_path / "d.png", "--png-scale", 8)
     assert code == 0, err
-    assert calls == [((40, 96, 3), np.uint8, 16, 1, "local", True)]
+    assert calls == [((40, 96, 3), np.uint8, 16, 1, "local", "ad-census", True)]
     pfm = read_image(tmp_path / "d.pfm")
     full = np.tile(estimate, (20, 24))
     assert pfm.dtype == np.float32 and pfm.shape == (40, 96)
@@ -89,6 +90,14 @@ def test_segment_planes_can_be_switched_off(tmp_path, pair, known_estimate):
                           "--no-segment-planes", "-o", tmp_path / "d.pfm")
     assert code == 0, err
     assert calls[0][-1] is False
+
+
+def test_the_cost_is_chosen_by_name(tmp_path, pair, known_estimate):
+    _, calls = known_estimate
+    code, _, err = invoke("--left", pair[0], "--right", pair[1], "--disparities", 16,
+                          "--cost", "census-gradient", "-o", tmp_path / "d.pfm")
+    assert code == 0, err
+    assert calls[0][5] == "census-gradient"
 
 
 def test_grey_pictures_are_given_as_rgb(tmp_path, known_estimate):
@@ -148,6 +157,8 @@ def test_tsukuba_scored_by_evaluate(tmp_path):
 
 @pytest.mark.parametrize("args, code, fragment", [
     (["--disparities", 16, "--method", "magic"], 2, "'magic' is not one of 'sgm', 'bp'"),
+    (["--disparities", 16, "--cost", "census"], 2,
+     "'census' is not one of 'ad-census', 'census-gradient'"),
     (["--disparities", 16, "--min-disparity", 16], 2, "empty disparity range"),
     (["--disparities", 16, "--neighbour", "cam0", "v0.yuv"], 2,
      "--neighbour: DERS options need a configuration file"),

@@ -17,7 +17,7 @@ from typing import Callable
 import numpy as np
 
 from mvtools.depth.bp import bp_volume
-from mvtools.depth.cost import ad_census_cost, check_pair
+from mvtools.depth.cost import COSTS, check_pair
 from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.local import local_volume
 from mvtools.depth.patchmatch import patchmatch_planes, plane_disparity
@@ -25,7 +25,7 @@ from mvtools.depth.refine import clean_up, left_right_consistent, refine_subpixe
 from mvtools.depth.segment import plane_segments, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import sgm_volume, winner_takes_all
 
-__all__ = ["estimate_disparity", "METHODS", "PAIR_METHODS"]
+__all__ = ["estimate_disparity", "METHODS", "PAIR_METHODS", "COSTS"]
 
 #: name -> ``method(cost, guide) -> volume``: ``cost`` of shape (H, W, D) float32, ``guide``
 #: the view the costs belong to, (H, W, 3) float32 RGB; the returned (H, W, D) float32
@@ -40,14 +40,16 @@ PAIR_METHODS: tuple[str, ...] = (*METHODS, "patchmatch")
 
 def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: int,
                        min_disparity: int = 0, method: str = "bp",
-                       segment_planes: bool = True, segmentation: bool = False,
-                       subpixel: bool = False, view: str = "left") -> np.ndarray:
+                       cost: str = "ad-census", segment_planes: bool = True,
+                       segmentation: bool = False, subpixel: bool = False,
+                       view: str = "left") -> np.ndarray:
     """Disparity of the left view of a rectified pair.
 
-    AD-census costs, the method's optimisation, sub-pixel winner-takes-all in both views
-    from the same volume, sub-pixel refinement of the left view by a windowed
-    squared-difference fit, then :func:`mvtools.depth.refine.clean_up` (left-right check,
-    background fill, colour-weighted median).
+    Matching costs (AD-census by default), the method's optimisation, sub-pixel
+    winner-takes-all in both views from the same volume, sub-pixel refinement of the
+    left view by a windowed squared-difference fit, then
+    :func:`mvtools.depth.refine.clean_up` (left-right check, background fill,
+    colour-weighted median).
 
     Parameters
     ----------
@@ -62,9 +64,15 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
         PatchMatch stereo with slanted support windows
         (:func:`mvtools.depth.patchmatch.patchmatch_planes`) started from the ``sgm``
         disparities of both views, the rest of the chain unchanged.
+    cost : str
+        One of :data:`mvtools.depth.cost.COSTS`: ``"ad-census"``
+        (:func:`~mvtools.depth.cost.ad_census_cost`), or ``"census-gradient"``
+        (:func:`~mvtools.depth.cost.census_gradient_cost`), which lowers the mean bad 1.0
+        of ``bp`` from 3.95 to 3.47 (Moebius 7.31 to 5.06) but the synthesized Cones im4
+        from 30.35 to 30.08 dB; ``patchmatch`` uses it only for its start.
     segment_planes : bool
         Colour segments of the left view whose robust disparity plane matches about as
-        well as the method's disparities (AD-census costs at most 10 % higher) take the
+        well as the method's disparities (matching costs at most 10 % higher) take the
         plane (:func:`mvtools.depth.segment.select_segment_planes`), and pixels within
         two columns of a depth step that lie in front of their segment's plane take it
         (:func:`mvtools.depth.segment.trim_fattening`), before the clean-up.
@@ -110,13 +118,20 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     ``sgm``, sub-pixel and seg. 4.49     0.22   5.37   2.93   7.16   5.77   8.15
     ``graphcut``                2.08     0.68   7.57   2.49   6.92   3.80   6.32     6.0   30.21
     ``local``                   2.88     0.34   6.24   3.03   8.14   5.15   8.00     1.3   30.05
+    ``bp``, census-gradient     1.88     0.41   4.89   2.35   6.46   3.26   5.06     2.0   30.08
+    ``graphcut``, cens.-grad.   2.59     0.44   5.69   2.30   6.37   3.29   5.17     5.0   30.11
     OpenCV StereoSGBM           5.66     3.06   15.3   7.22   16.5   10.8   10.8     0.04  28.49
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
 
-    (s: seconds per Cones pair on two idle cores.) ``bp`` with integer levels and
+    (s: seconds per Cones pair on two idle cores; the census-gradient rows were timed
+    in a later session, when the default ``bp`` took 1.2 s.) ``bp`` with integer levels and
     segment planes is the default: the only combination under the bars of all four
     2001/2003 pairs (Tsukuba 2.0, Venus 1.0, Teddy 6.0, Cones 3.0), and the lowest mean,
-    3.95 (``patchmatch`` 4.05, eight times slower, gives the best synthesized view). The
+    3.95 (``patchmatch`` 4.05, eight times slower, gives the best synthesized view).
+    With ``cost="census-gradient"`` ``bp`` is under the bars of all seven pairs (mean
+    3.47; Moebius 5.06 against a bar of 5.39, half of StereoSGBM's error), but its
+    synthesized view is 0.27 dB worse (1D mode: 29.75 against 30.31 dB), so AD-census
+    stays the default (:func:`mvtools.depth.cost.census_gradient_cost`, Notes). The
     plane selection and fattening trim run on both views, the right one as the left
     view of the mirrored pair, and the left-right check then compares the refined maps:
     mean 3.95 against 4.04 with the left view alone (Teddy 5.08 against 5.59), for
@@ -134,18 +149,21 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     if method not in PAIR_METHODS:
         raise ValueError(f"{method!r} method is invalid, it must be one of "
                          f"{sorted(PAIR_METHODS)}")
+    if cost not in COSTS:
+        raise ValueError(f"{cost!r} cost is invalid, it must be one of {sorted(COSTS)}")
     if view not in ("left", "right"):
         raise ValueError(f"view must be 'left' or 'right', got {view!r}")
     if view == "right":
         mirrored = [np.ascontiguousarray(np.asarray(picture)[:, ::-1]) for picture in (right, left)]
         return np.ascontiguousarray(estimate_disparity(
             *mirrored, max_disparity=max_disparity, min_disparity=min_disparity, method=method,
-            segment_planes=segment_planes, segmentation=segmentation, subpixel=subpixel)[:, ::-1])
+            cost=cost, segment_planes=segment_planes, segmentation=segmentation,
+            subpixel=subpixel)[:, ::-1])
     left, right = check_pair(left, right, min_disparity=min_disparity,
                              max_disparity=max_disparity)
     levels = max_disparity - min_disparity + 1
-    cost = ad_census_cost(left, right, min_disparity=min_disparity, levels=levels)
-    volume = METHODS["sgm" if method == "patchmatch" else method](cost, _rgb(left))
+    costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
+    volume = METHODS["sgm" if method == "patchmatch" else method](costs, _rgb(left))
     disparity_left = winner_takes_all(volume) + min_disparity
     disparity_right = winner_takes_all(volume, right_view=True,
                                        min_disparity=min_disparity) + min_disparity
@@ -168,12 +186,12 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
         # the left one of the mirrored, swapped pair.
         mirrored = [np.ascontiguousarray(view[:, ::-1]) for view in (right, left)]
         disparity_left, disparity_right = (
-            _on_segment_planes(disparity_left, disparity_right, left, segments, cost,
+            _on_segment_planes(disparity_left, disparity_right, left, segments, costs,
                                min_disparity=min_disparity, subpixel=subpixel),
             _on_segment_planes(
                 disparity_right[:, ::-1], disparity_left[:, ::-1], mirrored[0],
                 plane_segments(mirrored[0]),
-                ad_census_cost(*mirrored, min_disparity=min_disparity, levels=levels),
+                COSTS[cost](*mirrored, min_disparity=min_disparity, levels=levels),
                 min_disparity=min_disparity, subpixel=subpixel)[:, ::-1])
     return clean_up(disparity_left, disparity_right, left,
                     segments=segments if segmentation else None)
