@@ -18,7 +18,7 @@ import pytest
 from mvtools.cli import colorcorrect, estimate_depth
 from mvtools.color import rgb_to_yuv, yuv_to_rgb
 from mvtools.color.chart import delta_e_2000, linear_rgb_to_lab, sample_patches, srgb_to_linear
-from mvtools.color.correspondence import warp_to_target
+from mvtools.color.correspondence import warped_psnr
 from mvtools.geometry.depth import depth_to_z
 from mvtools.datasets import load_middlebury_ground_truth, score_middlebury
 from mvtools.io.cameras import read_cameras
@@ -26,7 +26,6 @@ from mvtools.io.images import read_image, read_pfm, write_image
 from mvtools.io.color_charts import read_colorchecker, read_colorchecker_srgb
 from mvtools.io.luts import read_cube, read_lut, read_matrix
 from mvtools.io.yuv import YuvFormat, open_video, write_video
-from mvtools.metrics import psnr
 from mvtools.scene.rigs import ColorMismatch
 from chart_scene import CORNERS, photograph
 from program_runner import assert_one_line_error, invoke
@@ -80,11 +79,8 @@ def warped_luma_psnr(view: int, texture: Path, reference: Path) -> float:
     cameras = read_cameras(LINE / "cameras.txt")
     z = {index: depth_to_z(frames(LINE / DEPTH.format(index), DEPTH_FORMAT)[0][0], 2.0, 13.0,
                            bits=16) for index in (view, 2)}
-    luma = frames(texture)[0][0]
-    truth = frames(reference)[0][0].astype(np.float64)
-    warped, seen = warp_to_target(luma, cameras[f"cam{view}"], z[view], truth.shape,
-                                  cameras["cam2"], z[2])
-    return psnr(warped[seen][None], truth[seen][None], max_value=255)
+    return warped_psnr(frames(texture)[0][0], cameras[f"cam{view}"], z[view],
+                       frames(reference)[0][0], cameras["cam2"], z[2], max_value=255)
 
 
 @pytest.fixture(scope="module")

@@ -19,7 +19,7 @@ from mvtools.color.chart import (delta_e_2000, detect_chart, fit_chart_correctio
 from mvtools.color.correct import (SPACES, TARGETS, channel_names, correct_planes, view_tables,
                                    working_codes)
 from mvtools.color.correspondence import (common_view_samples, corresponding_samples,
-                                          warp_to_target)
+                                          warped_psnr)
 from mvtools.color.lut import apply_lut
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import depth_to_z
@@ -29,7 +29,6 @@ from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.luts import write_cube, write_lut, write_matrix
 from mvtools.io.yuv import open_writer
-from mvtools.metrics import psnr
 
 LOG = logging.getLogger("mvtools")
 
@@ -372,12 +371,9 @@ class _Matcher:
 
     def _warped_psnr(self, name, luma, reference, index):
         reference_name = self.names[self.reference]
-        reference_z = self._z(reference_name, index)
-        warped, seen = warp_to_target(np.asarray(luma), self.cameras[name], self._z(name, index),
-                                      reference_z.shape, self.cameras[reference_name],
-                                      reference_z)
-        return psnr(warped[seen][None], reference[seen][None].astype(np.float64),
-                    max_value=2 ** self.fmt.bits - 1)
+        return warped_psnr(luma, self.cameras[name], self._z(name, index), reference,
+                           self.cameras[reference_name], self._z(reference_name, index),
+                           max_value=2 ** self.fmt.bits - 1)
 
 
 def _camera_depth_range(cameras, names):

@@ -15,8 +15,10 @@ import numpy as np
 
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.projection import pixel_grid, reproject
+from mvtools.metrics import psnr
 
-__all__ = ["corresponding_samples", "warp_to_target", "disparity_samples", "common_view",
+__all__ = ["corresponding_samples", "warp_to_target", "warped_psnr", "disparity_samples",
+           "common_view",
            "common_view_samples",
            "overlap_samples"]
 
@@ -131,15 +133,46 @@ def warp_to_target(view: np.ndarray, view_camera: Camera, view_z: np.ndarray,
     pixels, u, v = _visible_matches(view.shape[:2], view_camera, view_z, tuple(target_shape),
                                     target_camera, target_z, tolerance)
     channels = 1 if view.ndim == 2 else view.shape[2]
-    sampled = cv2.remap(np.asarray(view, np.float32), u.astype(np.float32)[:, None],
-                        v.astype(np.float32)[:, None], interpolation=cv2.INTER_LINEAR,
-                        borderMode=cv2.BORDER_REPLICATE).reshape(-1, channels)
     warped = np.full((int(np.prod(target_shape)), channels), np.nan, np.float32)
-    warped[pixels] = sampled
+    if len(pixels):  # OpenCV refuses empty maps
+        warped[pixels] = cv2.remap(np.asarray(view, np.float32), u.astype(np.float32)[:, None],
+                                   v.astype(np.float32)[:, None], interpolation=cv2.INTER_LINEAR,
+                                   borderMode=cv2.BORDER_REPLICATE).reshape(-1, channels)
     seen = np.zeros(int(np.prod(target_shape)), bool)
     seen[pixels] = True
     shape = tuple(target_shape) + ((channels,) if view.ndim == 3 else ())
     return warped.reshape(shape), seen.reshape(target_shape)
+
+
+def warped_psnr(view: np.ndarray, view_camera: Camera, view_z: np.ndarray,
+                target: np.ndarray, target_camera: Camera, target_z: np.ndarray, *,
+                max_value: float, tolerance: float = 0.01) -> float:
+    """PSNR (dB) of a plane of ``view`` warped into the target camera
+    (:func:`warp_to_target`) against ``target``, over the pixels where the target sees
+    what ``view`` sees: how far the colours of two views agree, resampling aside.
+
+    Parameters
+    ----------
+    view, target : ndarray, shape (H, W)
+        One plane of each picture (any sizes).
+    view_camera, target_camera : Camera
+    view_z, target_z : ndarray, shapes of the planes
+    max_value : keyword-only float
+        Peak value, ``2**bits - 1``.
+    tolerance : keyword-only float
+
+    Raises
+    ------
+    ValueError
+        No target pixel sees what ``view`` sees.
+    """
+    target = np.asarray(target)
+    warped, seen = warp_to_target(view, view_camera, view_z, target.shape, target_camera,
+                                  target_z, tolerance=tolerance)
+    if not seen.any():
+        raise ValueError(f"camera {target_camera.name!r} sees none of the points of camera "
+                         f"{view_camera.name!r} at the depths given")
+    return psnr(target, np.nan_to_num(warped), max_value=max_value, mask=seen)
 
 
 def disparity_samples(view: np.ndarray, target: np.ndarray, target_disparity: np.ndarray, *,
