@@ -106,3 +106,7 @@ def test_census_gradient_cost_meets_the_moebius_bar():
     truth = load_middlebury_ground_truth(root, "Moebius")
     disparity = estimate_disparity(left, right, max_disparity=79, cost="census-gradient")
     assert score_middlebury(disparity, truth, "Moebius") < 10.77 / 2
+    # a broken matcher fails it: winner-takes-all on raw absolute colour differences
+    shifted = right[:, np.clip(np.arange(left.shape[1])[:, None] - np.arange(80), 0, None)]
+    raw = np.abs(left[:, :, None].astype(np.int16) - shifted).sum(axis=-1)
+    assert score_middlebury(np.argmin(raw, axis=2).astype(np.float32), truth, "Moebius") > 20
