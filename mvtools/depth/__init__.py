@@ -69,7 +69,8 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
         (:func:`~mvtools.depth.cost.ad_census_cost`), or ``"census-gradient"``
         (:func:`~mvtools.depth.cost.census_gradient_cost`), which lowers the mean bad 1.0
         of ``bp`` from 3.95 to 3.47 (Moebius 7.31 to 5.06) but the synthesized Cones im4
-        from 30.35 to 30.08 dB; ``patchmatch`` uses it only for its start.
+        from 30.35 to 30.08 dB; ``patchmatch`` uses it for its ``sgm`` start and the
+        segment planes, its own window costs otherwise.
     segment_planes : bool
         Colour segments of the left view whose robust disparity plane matches about as
         well as the method's disparities (matching costs at most 10 % higher) take the

@@ -147,8 +147,6 @@ def _ad_census_volume(census_left, census_right, colour_left, colour_right, min_
     return volume
 
 
-
-
 # fastmath lets the sums over the neighbours run in SIMD lanes; the order of the
 # additions is fixed by the compiled code, so the result stays deterministic.
 @njit(cache=True, nogil=True, parallel=True, fastmath=True)
