@@ -30,7 +30,8 @@ from common import DATA, report
 from mvtools.cli.configs import load_config
 from mvtools.cli.main import cli
 from mvtools.cli.synthesize import synthesis_options
-from mvtools.synthesis.working import DepthCoding, to_working
+from mvtools.geometry.depth import DepthCoding
+from mvtools.synthesis.working import to_working
 from mvtools.datasets import cones_multiview, write_cones_case
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import read_cameras, write_cameras

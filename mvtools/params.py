@@ -23,6 +23,8 @@ import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, Mapping
 
+from mvtools.geometry.depth import check_depth_range, depth_sign
+
 if TYPE_CHECKING:
     from mvtools.io.config import ConfigEntry
 
@@ -164,13 +166,9 @@ def _checked(spec: ParamSpec, value: Any) -> Any:
 
 def _check_depth_range(near_key: str, near: float, far_key: str, far: float,
                        depth_type: int) -> None:
-    """Check a (Znear, Zfar) pair of the 8-bit depth mapping; both 0 = not given.
+    """Check a (Znear, Zfar) pair of the depth mapping; both 0 = not given.
 
-    Depth value 255 is Znear and 0 is Zfar, ``1/z`` linear in between, so the
-    mapping needs ``1/Znear > 1/Zfar``: ``0 < Znear < Zfar`` for depth measured
-    from the camera. Measured from the world origin (DepthType 1) z may be
-    negative and a range may pass behind the origin, Znear > 0 > Zfar, as in the
-    shipped Big Buck Bunny arc configuration (0.464901, -2.424092).
+    The rule is :func:`mvtools.geometry.depth.check_depth_range`'s; this names the keys.
     """
     if near == 0 and far == 0:
         return
@@ -179,19 +177,10 @@ def _check_depth_range(near_key: str, near: float, far_key: str, far: float,
         missing = keys if near == 0 else keys[::-1]
         raise ParamError(missing, f"{near_key} and {far_key} must be given together "
                                   "(both 0 means not given)")
-    if depth_type == 0 and (near < 0 or far < 0):
-        raise ParamError(keys if near < 0 else keys[::-1],
-                         f"{format_value(near if near < 0 else far)} must be > 0 with "
-                         "DepthType 0 (depth measured from the camera)")
-    if 1 / near <= 1 / far:
-        if near < 0 < far:
-            message = (f"Znear < 0 < Zfar ({near_key} {format_value(near)}, {far_key} "
-                       f"{format_value(far)}): a range may only cross the world origin "
-                       "from Znear > 0 to Zfar < 0")
-        else:
-            message = (f"Znear must be < Zfar ({near_key} {format_value(near)} >= "
-                       f"{far_key} {format_value(far)})")
-        raise ParamError(keys, message)
+    try:
+        check_depth_range(near, far, depth_type=depth_type)
+    except ValueError as error:
+        raise ParamError(keys, f"{error} (with {far_key} {far:g})") from None
 
 
 def _depth_range(near: float, far: float) -> tuple[float, float] | None:
@@ -329,6 +318,13 @@ class VsrsParams(_ProgramParams):
                                f"{side}FarthestDepthValue",
                                getattr(self, f"{lower}_farthest_depth_value"),
                                self.depth_type)
+        ranges = [self.left_depth_range, self.right_depth_range]
+        if self.depth_type == 0 and None not in ranges and (
+                len({depth_sign(*depth_range) for depth_range in ranges}) > 1):
+            raise ParamError(("LeftNearestDepthValue", "RightNearestDepthValue"),
+                             f"{ranges[0][0]:g} and {ranges[1][0]:g} "
+                             "have opposite signs: the two views would put the scene on "
+                             "opposite sides of their cameras")
         if self.synthesis_mode == 1 and self.color_space != 0:
             raise ParamError(("ColorSpace", "SynthesisMode"),
                              "the 1D mode (SynthesisMode 1) works in YUV, ColorSpace must be 0")

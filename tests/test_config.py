@@ -270,27 +270,39 @@ def test_ders_ranges(tmp_path):
         load_text(tmp_path, "SoftColorCoeff 0\n", DersParams, "ders.cfg")
 
 
-def test_znear_must_be_below_zfar(tmp_path):
+def test_znear_must_be_nearer_than_zfar(tmp_path):
     text = "DepthType 0\nLeftNearestDepthValue 500\nLeftFarthestDepthValue 400\n"
     with pytest.raises(ConfigError) as info:
         load_text(tmp_path, text)
-    assert str(info.value).startswith(
-        f"{tmp_path / 'test.cfg'}:2: LeftNearestDepthValue: Znear must be < Zfar")
-    with pytest.raises(ConfigError, match="Znear must be < Zfar"):
+    assert str(info.value) == (
+        f"{tmp_path / 'test.cfg'}:2: LeftNearestDepthValue: Znear 500 is farther than Zfar 400: "
+        "need |Znear| < |Zfar| (with LeftFarthestDepthValue 400)")
+    with pytest.raises(ConfigError, match="farther than"):
         load_text(tmp_path, "RightNearestDepthValue 7\nRightFarthestDepthValue 7\n")
+    # Swapped negative range (Poznan's, written the wrong way round).
+    with pytest.raises(ConfigError, match=r"test.cfg:1: LeftNearestDepthValue: Znear -172.53 is "
+                                          r"farther than Zfar -23.39"):
+        load_text(tmp_path, "LeftNearestDepthValue -172.53\nLeftFarthestDepthValue -23.39\n")
     # Only one of the pair given: the other is the default 0 ("not given").
     with pytest.raises(ConfigError, match=r"test.cfg:1: LeftFarthestDepthValue: "
                                           r"LeftNearestDepthValue and LeftFarthestDepthValue "
                                           r"must be given together"):
         load_text(tmp_path, "LeftFarthestDepthValue 400\n")
-    with pytest.raises(ConfigError, match=r"test.cfg:2: LeftNearestDepthValue: -5.0 must be > 0 "
-                                          r"with DepthType 0"):
+    with pytest.raises(ConfigError, match=r"test.cfg:2: LeftNearestDepthValue: Znear -5 and Zfar "
+                                          r"9 have opposite signs: depth along the camera axis"):
         load_text(tmp_path, "DepthType 0\nLeftNearestDepthValue -5\nLeftFarthestDepthValue 9\n")
-    with pytest.raises(ConfigError, match="may only cross the world origin"):
-        load_text(tmp_path, "DepthType 1\nLeftNearestDepthValue -1\nLeftFarthestDepthValue 2\n")
-    params, _ = load_text(tmp_path, "DepthType 1\nLeftNearestDepthValue 0.5\n"
-                                    "LeftFarthestDepthValue -2.5\n")
-    assert params.left_depth_range == (0.5, -2.5)
+    # Negative ranges (Poznan Hall 2, DepthType 0; Newspaper, DepthType 1) and a world-z
+    # range through 1/z = 0 (Big Buck Bunny butterfly) are VSRS's and accepted.
+    for depth_type, near, far in ((0, -23.39416, -172.531931), (1, -2715.18, -9050.61),
+                                  (1, 0.5, -2.5), (1, -0.5, 2.5)):
+        params, _ = load_text(tmp_path, f"DepthType {depth_type}\nLeftNearestDepthValue {near}\n"
+                                        f"LeftFarthestDepthValue {far}\n")
+        assert params.left_depth_range == (near, far)
+    # The two views must put the scene on one side of the cameras.
+    with pytest.raises(ConfigError, match=r"test.cfg:1: LeftNearestDepthValue: -23.4 and 23.4 "
+                                          r"have opposite signs"):
+        load_text(tmp_path, "LeftNearestDepthValue -23.4\nLeftFarthestDepthValue -172.5\n"
+                            "RightNearestDepthValue 23.4\nRightFarthestDepthValue 172.5\n")
 
 
 def test_consistency_between_keys(tmp_path):

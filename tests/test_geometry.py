@@ -5,8 +5,9 @@ import pytest
 from shared_data import shared_data
 
 from mvtools.geometry import (
-    Camera, backproject, depth_along_axis, depth_to_z, depth_value_to_disparity,
-    ders_depth_range, disparity_1d, disparity_to_depth_value, disparity_to_z, forward_warp,
+    Camera, DepthCoding, backproject, depth_along_axis, depth_to_z, depth_value_to_disparity,
+    ders_depth_range, disparity_1d, disparity_to_depth_value, disparity_to_z, facing_camera,
+    forward_warp,
     normalized_disparity, pixel_grid, plane_homography, project, reproject, turn_world,
     z_to_depth, z_to_disparity)
 from mvtools.io.cameras import read_cameras
@@ -157,17 +158,82 @@ def test_depth_round_trip_over_every_value(bits):
 
 
 def test_depth_validation():
-    for znear, zfar in ((200.0, 100.0), (100.0, 100.0), (0.0, 100.0), (-5.0, 100.0)):
-        with pytest.raises(ValueError, match="znear < zfar"):
+    cases = {(200.0, 100.0): "farther than", (-100.0, -50.0): "farther than",
+             (100.0, 100.0): "farther than", (0.0, 100.0): "Znear must be finite and not 0",
+             (100.0, 0.0): "Zfar must not be 0", (-5.0, 100.0): "opposite signs",
+             (5.0, -100.0): "opposite signs"}
+    for (znear, zfar), message in cases.items():
+        with pytest.raises(ValueError, match=message):
             depth_to_z([0], znear, zfar)
-        with pytest.raises(ValueError, match="znear < zfar"):
+        with pytest.raises(ValueError, match=message):
             z_to_depth([150.0], znear, zfar)
     with pytest.raises(ValueError, match=r"0\.\.255"):
         depth_to_z([256], 100.0, 200.0)
-    with pytest.raises(ValueError, match="positive"):
+    with pytest.raises(ValueError, match="not be 0"):
         z_to_depth([150.0, 0.0], 100.0, 200.0)
     with pytest.raises(ValueError, match="8 to 16 bits"):
         depth_to_z([0], 100.0, 200.0, bits=7)
+
+
+def test_negative_range_is_the_positive_one_signed():
+    """Poznan's ranges: 1/z = v/255 (1/Znear - 1/Zfar) + 1/Zfar with signed z."""
+    z = depth_to_z(np.array([255, 51, 0], np.uint8), -100.0, -200.0)
+    np.testing.assert_allclose(z, [-100.0, -1 / 0.006, -200.0], rtol=1e-14)
+    np.testing.assert_array_equal(z_to_depth([-100.0, -1 / 0.006, -200.0, -50.0, -1e6],
+                                             -100.0, -200.0), [255, 51, 0, 255, 0])
+    coding = DepthCoding((-100.0, -200.0), 8, depth_type=0)
+    np.testing.assert_allclose(coding.z(np.array([255, 51, 0])), [100.0, 1 / 0.006, 200.0],
+                               rtol=1e-14)
+    np.testing.assert_array_equal(coding.values(np.array([100.0, 1 / 0.006, 200.0, np.inf])),
+                                  [255, 51, 0, 0])
+    assert coding.inverse_step == pytest.approx((1 / 100 - 1 / 200) / 255, rel=1e-14)
+
+
+@pytest.mark.parametrize("bits", [8, 16])
+def test_depth_coding_is_depth_to_z_and_back(bits):
+    coding = DepthCoding((448.251214, 11206.28035), bits, depth_type=0)
+    values = np.arange(2 ** bits)
+    np.testing.assert_array_equal(coding.z(values), depth_to_z(values, 448.251214, 11206.28035, bits=bits))
+    np.testing.assert_array_equal(coding.values(coding.z(values)), values)
+    # Nothing seen (inf) is the farthest value.
+    assert coding.values(np.array([np.inf]))[0] == 0
+
+
+def test_depth_coding_of_a_range_through_the_world_origin():
+    # DepthType 1, Znear > 0 > Zfar (the shipped Big Buck Bunny arc configuration):
+    # 1/z runs linearly from 1/Zfar < 0 (value 0) to 1/Znear (value 255).
+    znear, zfar = 0.464901, -2.424092
+    coding = DepthCoding((znear, zfar), 8, depth_type=1)
+    z = coding.z(np.array([0, 255]))
+    np.testing.assert_allclose(z, [zfar, znear])
+    inverse = 1 / zfar + 100 / 255 * (1 / znear - 1 / zfar)
+    np.testing.assert_allclose(coding.z(np.array([100])), 1 / inverse)
+    np.testing.assert_array_equal(coding.values(coding.z(np.arange(256))), np.arange(256))
+    assert coding.values(np.array([np.inf]))[0] == 0
+    # A very far point: 1/z = 0 is the value that solves 0 = 1/Zfar + v/255 (1/Znear - 1/Zfar).
+    assert coding.values(np.array([1e12]))[0] == round(-255 * (1 / zfar) / (1 / znear - 1 / zfar))
+    with pytest.raises(ValueError, match="opposite signs"):
+        DepthCoding((znear, zfar), 8, depth_type=0)
+
+
+def test_facing_camera_turns_cameras_that_look_away_from_the_range():
+    camera = Camera("c", K=[[1000, 0, 320], [0, 1000, 240], [0, 0, 1]], t=[1.0, 2.0, 3.0])
+    assert facing_camera(camera, (10.0, 20.0)) is camera
+    turned = facing_camera(camera, (-10.0, -20.0))
+    np.testing.assert_array_equal(turned.R, -camera.R)
+    np.testing.assert_array_equal(turned.t, camera.t)
+    # The same pixel for every point, and depth along the axis of the other sign.
+    points = np.array([[0.5, -1.0, -7.0], [3.0, 4.0, 11.0]])
+    for point in points:
+        (uv, z), (uv_turned, z_turned) = project(camera, point), project(turned, point)
+        np.testing.assert_allclose(uv_turned, uv, rtol=1e-14)
+        assert z_turned == pytest.approx(-z, rel=1e-14)
+    # DepthType 1, Newspaper's axes (R = diag(1, -1, -1): the camera looks along world
+    # -z): a positive world-z range lies behind it at t_z = 0, a negative one in front.
+    news = Camera("n", K=camera.K, R=np.diag([1.0, -1.0, -1.0]))
+    assert facing_camera(news, (-2715.18, -9050.61), depth_type=1) is news
+    np.testing.assert_array_equal(
+        facing_camera(news, (3393.98, 7542.17), depth_type=1).R, np.diag([-1.0, 1.0, 1.0]))
 
 
 # ---------------------------------------------------------------- disparity
@@ -191,7 +257,10 @@ def test_normalized_disparity_and_ders_labels():
     np.testing.assert_array_equal(labels, [0, 128, 255, 255, 0])
     np.testing.assert_allclose(depth_value_to_disparity([0, 51, 255], 10.0, 60.0),
                                [10.0, 20.0, 60.0], rtol=1e-15)
-    with pytest.raises(ValueError, match="dmin < dmax"):
+    # A decreasing mapping, as the inverse depths of negative ranges make.
+    np.testing.assert_array_equal(normalized_disparity([60.0, 35.0, 10.0], 60.0, 10.0),
+                                  [0.0, 127.5, 255.0])
+    with pytest.raises(ValueError, match="dmin != dmax"):
         normalized_disparity([1.0], 5.0, 5.0)
 
 

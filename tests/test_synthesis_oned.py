@@ -16,7 +16,7 @@ from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import depth_to_z
 from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import read_frame
-from mvtools.synthesis.blend import inverse_depth_step
+from mvtools.geometry.depth import inverse_depth_step
 from mvtools.synthesis.general import GeneralWarper
 from mvtools.synthesis.oned import OneDWarper, TemporalDepthFilter, merge_1d, warp_1d
 from mvtools.synthesis.views import ReferenceView, WarpedView

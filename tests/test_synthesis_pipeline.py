@@ -18,7 +18,8 @@ from mvtools.geometry.depth import depth_to_z, z_to_depth
 from mvtools.metrics import psnr
 from mvtools.scene import NoiseTexture, Plane, Rectangle, Scene, linear_rig, render
 from mvtools.scene.rigs import sample_intrinsics
-from mvtools.synthesis.blend import inverse_depth_step, merge_views, view_weights
+from mvtools.geometry.depth import inverse_depth_step
+from mvtools.synthesis.blend import merge_views, view_weights
 from mvtools.synthesis.boundary import boundary_noise, remove_boundary_noise, soften_edges
 from mvtools.synthesis.holes import fill_holes
 from mvtools.synthesis.pipeline import Synthesizer

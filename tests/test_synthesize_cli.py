@@ -18,7 +18,6 @@ import numpy as np
 import pytest
 
 from mvtools.cli import synthesize as synthesize_module
-from mvtools.synthesis.working import DepthCoding
 from mvtools.errors import DataError
 from mvtools.geometry.depth import depth_to_z, z_to_depth
 from mvtools.geometry.projection import backproject, pixel_grid
@@ -199,33 +198,6 @@ def frames_of_bytes(data: bytes) -> list[tuple[np.ndarray, ...]]:
     return [(frame[:luma].reshape(FORMAT.height, FORMAT.width),) for frame in samples]
 
 
-# --------------------------------------------------------------------- depth coding
-
-@pytest.mark.parametrize("bits", [8, 16])
-def test_depth_coding_is_depth_to_z_and_back(bits):
-    coding = DepthCoding((ZNEAR, ZFAR), bits, depth_type=0)
-    values = np.arange(2 ** bits)
-    np.testing.assert_array_equal(coding.z(values), depth_to_z(values, ZNEAR, ZFAR, bits=bits))
-    np.testing.assert_array_equal(coding.values(coding.z(values)), values)
-    # Nothing seen (inf) is the farthest value.
-    assert coding.values(np.array([np.inf]))[0] == 0
-
-
-def test_depth_coding_of_a_range_through_the_world_origin():
-    # DepthType 1, Znear > 0 > Zfar (the shipped Big Buck Bunny arc configuration):
-    # 1/z runs linearly from 1/Zfar < 0 (value 0) to 1/Znear (value 255).
-    znear, zfar = 0.464901, -2.424092
-    coding = DepthCoding((znear, zfar), 8, depth_type=1)
-    z = coding.z(np.array([0, 255]))
-    np.testing.assert_allclose(z, [zfar, znear])
-    inverse = 1 / zfar + 100 / 255 * (1 / znear - 1 / zfar)
-    np.testing.assert_allclose(coding.z(np.array([100])), 1 / inverse)
-    np.testing.assert_array_equal(coding.values(coding.z(np.arange(256))), np.arange(256))
-    assert coding.values(np.array([np.inf]))[0] == 0
-    with pytest.raises(ValueError, match="not a depth range"):
-        DepthCoding((znear, zfar), 8, depth_type=0)
-
-
 # --------------------------------------------------------------------- outputs and frames
 
 def test_output_is_deterministic(tmp_path):
@@ -340,14 +312,14 @@ def _config_copy(tmp_path: Path, folder: Path = LINE) -> Path:
     ("VirtualCameraName=cam9", 2, ("VirtualCameraName", "no camera 'cam9'")),
     ("VirtualCameraName=", 2, ("VirtualCameraName", "no camera name given")),
     ("LeftCameraName=", 2, ("LeftCameraName", "without LeftCameraName")),
-    ("LeftNearestDepthValue=13", 2, ("LeftNearestDepthValue", "Znear must be < Zfar")),
+    ("LeftNearestDepthValue=13", 2, ("LeftNearestDepthValue", "farther than Zfar")),
     ("Precision=3", 2, ("Precision", "3 is not one of 1, 2, 4")),
     ("SynthesisMode=2", 2, ("SynthesisMode", "not one of 0, 1")),
     ("ColorSpace=1", 2, ("ColorSpace", "1D mode")),
     ("LeftViewImageName=missing.yuv", 2, ("LeftViewImageName", "not found")),
     ("OutputVirtualViewImageName=", 2, ("OutputVirtualViewImageName", "no output file")),
     ("OutputVirtualViewImageName=nowhere/out.yuv", 2, ("does not exist",)),
-], ids=["unknown-camera", "no-virtual-camera", "no-left-camera", "znear-not-below-zfar",
+], ids=["unknown-camera", "no-virtual-camera", "no-left-camera", "znear-farther-than-zfar",
         "precision", "synthesis-mode", "rgb-in-1d-mode", "missing-file", "no-output",
         "output-folder"])
 def test_bad_settings(tmp_path, setting, code, fragments):
@@ -386,7 +358,7 @@ def test_bad_view_option(tmp_path):
     code, _, err = run(LINE / "synthesize_cam2.cfg", "--view", "cam0", texture, depth, 13, 2,
                        cwd=tmp_path)
     assert code == 2
-    assert_one_line_error(err, "--view cam0", "Znear 13, Zfar 2")
+    assert_one_line_error(err, "--view cam0", "Znear 13 is farther than Zfar 2")
     code, _, err = run(LINE / "synthesize_cam2.cfg", "--view", "camX", texture, depth, 2, 13,
                        cwd=tmp_path)
     assert code == 2

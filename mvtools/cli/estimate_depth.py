@@ -42,7 +42,8 @@ from mvtools.io.config import param_entry
 from mvtools.io.images import read_image, write_image
 from mvtools.io.yuv import YuvFormat, format_from_name, frame_from_luma, open_video, open_writer
 from mvtools.params import DersParams
-from mvtools.synthesis.working import DepthCoding, to_working
+from mvtools.geometry.depth import DepthCoding
+from mvtools.synthesis.working import to_working
 
 LOG = logging.getLogger(__name__)
 

@@ -10,6 +10,7 @@ succeeds).
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import logging
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -25,13 +26,14 @@ from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argu
 from mvtools.cli.progress import Progress
 from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.geometry.camera import Camera
+from mvtools.geometry.depth import DepthCoding, depth_sign, facing_camera
 from mvtools.io.config import COMMAND_LINE, ConfigEntry, param_entry, resolve_output_path
 from mvtools.io.yuv import VideoReader, YuvFormat, frame_from_luma, open_video, open_writer
 from mvtools.params import VsrsParams
 from mvtools.synthesis import ReferenceView, SynthesisOptions
 from mvtools.synthesis.pipeline import Synthesizer
 from mvtools.synthesis.views import FILTERS, HOLE_FILLING
-from mvtools.synthesis.working import DepthCoding, from_working, to_working, world_z
+from mvtools.synthesis.working import from_working, to_working, world_z
 
 LOG = logging.getLogger(__name__)
 
@@ -104,7 +106,9 @@ def command(config, overrides, data_dirs, extra_views, hole_filling, output_dept
     if not references:
         raise ConfigError("no reference view: give LeftCameraName (and RightCameraName) or --view",
                           key="LeftCameraName")
-    virtual = _camera(loaded, "virtual_camera_name")
+    references = _facing(references, params.depth_type)
+    virtual = facing_camera(_camera(loaded, "virtual_camera_name"), references[0].depth_range,
+                            depth_type=params.depth_type)
     algorithm = synthesis_options(params, hole_filling=hole_filling)
     extra_outputs = {"depth": output_depth, "holes": output_holes}
     outputs = {"view": output, **{name: _command_line_output(f"--output-{name}", path)
@@ -278,6 +282,21 @@ def _extra_reference(loaded: LoadedConfig, view: tuple, data_dirs) -> _Reference
     _depth_coding((znear, zfar), 8, label, depth_type=loaded.params.depth_type)
     paths = [command_line_input(label, value, data_dirs) for value in (texture, depth)]
     return _Reference(camera, *paths, (znear, zfar), label, label)
+
+
+def _facing(references: list[_Reference], depth_type: int) -> list[_Reference]:
+    """The references with cameras that face their depth ranges (one side of the scene)."""
+    if depth_type == 0:
+        sign = depth_sign(*references[0].depth_range)
+        for ref in references[1:]:
+            if depth_sign(*ref.depth_range) != sign:
+                raise UsageError(f"depth range {ref.depth_range[0]:g} {ref.depth_range[1]:g} "
+                                 f"has the other sign than {references[0].camera.name!r}'s: "
+                                 "the views would put the scene on opposite sides of their "
+                                 "cameras", key=ref.depth_key)
+    return [dataclasses.replace(ref, camera=facing_camera(ref.camera, ref.depth_range,
+                                                          depth_type=depth_type))
+            for ref in references]
 
 
 def _output_path(loaded: LoadedConfig) -> Path:

@@ -17,9 +17,10 @@ import numba
 import numpy as np
 
 from mvtools.geometry.camera import Camera
+from mvtools.geometry.depth import inverse_depth_step
 from mvtools.synthesis.views import WarpedView
 
-__all__ = ["view_weights", "at_virtual_camera", "merge_views", "inverse_depth_step"]
+__all__ = ["view_weights", "at_virtual_camera", "merge_views"]
 
 
 def view_weights(virtual_camera: Camera, reference_cameras: Sequence[Camera]) -> np.ndarray:
@@ -71,18 +72,6 @@ def _distances(virtual_camera: Camera, reference_cameras: Sequence[Camera]) -> n
     if not np.all(np.isfinite(distances)):
         raise ValueError("camera centres must be finite")
     return distances
-
-
-def inverse_depth_step(depth_range: tuple[float, float]) -> float:
-    """Inverse depth of one 8-bit depth-value step of ``depth_range`` = (znear, zfar).
-
-    Depth-value tolerances (``DepthBlendDifference``, the 1D ``DepthThreshold``) are
-    multiplied by this to compare ``1 / z`` of two views.
-    """
-    znear, zfar = (float(value) for value in depth_range)
-    if not (np.isfinite(znear) and 0 < znear < zfar):
-        raise ValueError(f"depth_range needs 0 < znear < zfar, got {depth_range}")
-    return (1.0 / znear - 1.0 / zfar) / 255.0
 
 
 def merge_views(warped: Sequence[WarpedView], weights, *, view_blending: bool = False,

@@ -29,7 +29,7 @@ from collections.abc import Sequence
 import numba
 import numpy as np
 
-from mvtools.synthesis.blend import inverse_depth_step
+from mvtools.geometry.depth import inverse_depth_step
 from mvtools.synthesis.views import WarpedView
 
 __all__ = ["boundary_noise", "remove_boundary_noise", "soften_edges"]

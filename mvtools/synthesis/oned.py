@@ -2,7 +2,7 @@
 
 In a rectified array every camera shares the image plane orientation and the
 cameras sit on a line along x, so a reference pixel moves along its row only, by
-the disparity (spec section 1, :func:`mvtools.geometry.depth.disparity_1d`)::
+the disparity (:func:`mvtools.geometry.depth.disparity_1d`)::
 
     d = fx_left * (tx_virtual - tx_ref) / z - (cx_virtual - cx_ref),   u_virtual = u_ref - d
 
@@ -49,7 +49,7 @@ import numba
 import numpy as np
 
 from mvtools.geometry.camera import Camera
-from mvtools.synthesis.blend import inverse_depth_step
+from mvtools.geometry.depth import inverse_depth_step
 from mvtools.synthesis.sampling import tap_table
 from mvtools.synthesis.views import ReferenceView, WarpedView
 
@@ -79,8 +79,10 @@ class OneDWarper:
     Parameters
     ----------
     reference_camera, virtual_camera : Camera
-        Rectified: only the centres' x coordinates and the principal points' ``cx``
-        are used.
+        Rectified: only the baseline along the left camera's x axis and the
+        principal points' ``cx`` are used (the centres' x coordinates for VSRS's
+        ``R = I``; a camera turned to face a negative depth range has its x axis,
+        and so its baselines, reversed).
     size : (width, height)
         Size of the virtual view; the references must have its height.
     left_camera : Camera
@@ -94,7 +96,8 @@ class OneDWarper:
             raise ValueError(f"size must be positive, got {size}")
         self.size = (width, height)
         # d = scale / z - offset
-        self.scale = float(left_camera.fx * (virtual_camera.t[0] - reference_camera.t[0]))
+        baseline = left_camera.R[0] @ (virtual_camera.t - reference_camera.t)
+        self.scale = float(left_camera.fx * baseline)
         self.offset = float(virtual_camera.cx - reference_camera.cx)
         if not (np.isfinite(self.scale) and np.isfinite(self.offset)):
             raise ValueError("camera parameters must be finite")

@@ -1,7 +1,7 @@
 """Between files and synthesis: textures in the working colour space and depth-map coding.
 
 The working space is YUV 4:4:4 (chroma upsampled) or RGB, float32, sample values as in
-the files; depth maps code ``1/z`` linearly between Znear and Zfar.
+the files. Depth maps are decoded by :class:`mvtools.geometry.depth.DepthCoding`.
 """
 
 from __future__ import annotations
@@ -10,60 +10,11 @@ import numpy as np
 
 from mvtools.color.space import downsample_chroma, rgb_to_yuv, upsample_chroma, yuv_to_rgb
 from mvtools.geometry.camera import Camera
-from mvtools.geometry.depth import depth_value_to_disparity, disparity_to_depth_value, max_depth_value
 from mvtools.geometry.projection import backproject, pixel_grid
 
-__all__ = ["DepthCoding", "check_depth_range", "to_working", "from_working", "world_z"]
+__all__ = ["to_working", "from_working", "world_z"]
 
 _STRIP_ROWS = 128       # even: a strip starts on a 4:2:0 chroma row
-
-
-def check_depth_range(depth_range: tuple[float, float], *, depth_type: int) -> None:
-    """ValueError unless ``1/z`` decreases from Znear to Zfar."""
-    znear, zfar = depth_range
-    if znear == 0 or zfar == 0 or not 1 / znear > 1 / zfar or (depth_type == 0 and zfar < 0):
-        raise ValueError(f"Znear {znear:g}, Zfar {zfar:g} is not a depth range: need 0 < Znear "
-                         "< Zfar (or Znear > 0 > Zfar with DepthType 1)")
-
-
-class DepthCoding:
-    """Depth-map values <-> depth of one depth range, ``1/z`` linear in the value.
-
-    Written with inverse depths so that every range VSRS accepts works, also the
-    DepthType 1 ranges that pass behind the world origin (Znear > 0 > Zfar).
-
-    Parameters
-    ----------
-    depth_range : (znear, zfar)
-    bits : int
-        Bit depth of the depth maps.
-    depth_type : {0, 1}
-
-    Raises
-    ------
-    ValueError
-        A pair that is not a depth range.
-    """
-
-    def __init__(self, depth_range: tuple[float, float], bits: int, *, depth_type: int):
-        check_depth_range(depth_range, depth_type=depth_type)
-        znear, zfar = depth_range
-        self.inverse_range = (1.0 / zfar, 1.0 / znear)
-        self.bits = bits
-        values = np.arange(max_depth_value(bits) + 1)
-        with np.errstate(divide="ignore"):
-            # One division per possible value, then a look-up per pixel.
-            self.table = 1.0 / depth_value_to_disparity(values, *self.inverse_range, bits=bits)
-
-    def z(self, values: np.ndarray) -> np.ndarray:
-        """Depth of depth-map samples, float64."""
-        return self.table[values]
-
-    def values(self, z: np.ndarray) -> np.ndarray:
-        """Depth-map samples of depths; non-finite depths (nothing seen) give 0."""
-        finite = np.isfinite(z) & (z != 0)
-        inverse = np.divide(1.0, z, out=np.full_like(z, self.inverse_range[0]), where=finite)
-        return disparity_to_depth_value(inverse, *self.inverse_range, bits=self.bits)
 
 
 def world_z(camera: Camera, z: np.ndarray) -> np.ndarray:
