@@ -10,7 +10,7 @@ from shared_data import data_root, shared_data
 from mvtools.errors import ConfigError, UsageError
 from mvtools.geometry import Camera, backproject, project
 from mvtools.io.cameras import get_camera, read_cameras, read_htm_cameras, write_cameras
-from mvtools.io.json_cameras import read_json_cameras, write_json_cameras
+from mvtools.io.json_cameras import VideoDescription, read_json_cameras, write_json_cameras
 
 CAMERA_FOLDER = ("mpeg", "vsrs_camera_parameters")
 KENDO_CAMERAS = ("mpeg", "kendo", "config", "VSRS", "cam_param_kendo.cfg")
@@ -298,9 +298,12 @@ def test_json_camera_backprojects_as_the_mpeg_i_formula(tmp_path):
     rng = np.random.default_rng(1)
     u, v, d = rng.uniform(0, 1920, 50), rng.uniform(0, 1080, 50), rng.uniform(0.5, 25, 50)
     expected = _json_backproject(JSON_CAMERA, u, v, d)
-    np.testing.assert_allclose(backproject(camera, u, v, d), expected, rtol=0, atol=1e-12)
+    # JSON pixel centres are at integer + 0.5, ours at integers: JSON (u, v) is our
+    # (u - 0.5, v - 0.5).
+    np.testing.assert_allclose(backproject(camera, u - 0.5, v - 0.5, d), expected, rtol=0,
+                               atol=1e-12)
     uv, z = project(camera, expected)
-    np.testing.assert_allclose(uv, np.stack([u, v], axis=-1), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(uv, np.stack([u - 0.5, v - 0.5], axis=-1), rtol=0, atol=1e-9)
     np.testing.assert_allclose(z, d, rtol=1e-13)
 
 
@@ -316,11 +319,13 @@ def test_json_round_trip(tmp_path):
     second = dict(JSON_CAMERA, Name="v4", Rotation=[-170.0, 89.0, -45.0])
     cameras = read_json_cameras(_write_json(tmp_path, [JSON_CAMERA, second]))
     out = tmp_path / "again.json"
-    write_json_cameras(out, cameras, bit_depth_color=10, bit_depth_depth=16)
+    write_json_cameras(out, cameras,
+                       video=VideoDescription(bit_depth_color=10, bit_depth_depth=16))
     written = json.loads(out.read_text())["cameras"]
     for original, entry in zip([JSON_CAMERA, second], written):
         np.testing.assert_allclose(entry.pop("Rotation"), original["Rotation"], atol=1e-12)
-        assert entry == {key: value for key, value in original.items() if key != "Rotation"}
+        assert entry == {**{key: value for key, value in original.items() if key != "Rotation"},
+                         "Depthmap": 1, "Background": 0, "HasInvalidDepth": False}
 
 
 @pytest.mark.parametrize("name", ["cam_param_news.txt", "cam_param_lovebird1_original.txt",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import click
@@ -17,7 +18,8 @@ from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import depth_to_z, disparity_to_z, z_to_depth, z_to_disparity
 from mvtools.io.cameras import read_cameras, write_cameras
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
-from mvtools.io.json_cameras import read_json_cameras, write_json_cameras
+from mvtools.io.json_cameras import (DEFAULT_FPS, read_json_cameras, read_json_sequence,
+                                     write_json_cameras, write_json_sequence)
 from mvtools.io.yuv import YuvFormat, frame_from_luma, open_writer
 
 VIDEO_EXTENSIONS = (".yuv", ".y4m")
@@ -45,10 +47,12 @@ VIDEO_EXTENSIONS = (".yuv", ".y4m")
 @click.option("--zfar", type=float, default=None, help="Depth of depth value 0.")
 @click.option("--focal", type=float, default=None, help="Focal length in pixels (disparity).")
 @click.option("--baseline", type=float, default=None, help="Baseline, in the units of z (disparity).")
+@click.option("--fps", type=click.FloatRange(min=0, min_open=True), default=None,
+              help=f"Fps of MPEG-I JSON cameras (default: the input's, else {DEFAULT_FPS}).")
 @transposed_rotation_option
 @program
 def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt, depth, preview,
-            to_quantity, from_quantity, znear, zfar, focal, baseline, transposed_rotation):
+            to_quantity, from_quantity, znear, zfar, focal, baseline, fps, transposed_rotation):
     """Convert INPUTS into OUTPUT.
 
     \b
@@ -58,13 +62,14 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
     8-bit pictures, colour-mapped for depth).
     Depth video -> PFM of z or disparity (--depth --to z|disparity, with --znear --zfar).
     PFM of z or disparity -> depth video (--from z|disparity, with --znear --zfar).
-    MPEG camera parameter file <-> MPEG-I JSON cameras (.json; --size and
-    --znear/--zfar fill Resolution and Depth_range).
+    MPEG camera parameter file <-> MPEG-I JSON sequence file (.json; --size,
+    --znear/--zfar, --fps and --frames fill Resolution, Depth_range, Fps and
+    Frames_number; JSON -> JSON keeps the input's fields unless given).
     """
     output = Path(output)
     first = Path(inputs[0])
     if ".json" in (output.suffix.lower(), first.suffix.lower()):
-        _convert_cameras(inputs, output, size, znear, zfar, transposed_rotation)
+        _convert_cameras(inputs, output, size, znear, zfar, fps, frame_count, transposed_rotation)
         return
     out_is_video = output.suffix.lower() in VIDEO_EXTENSIONS
     if not out_is_video and output.suffix.lower() not in IMAGE_EXTENSIONS:
@@ -91,20 +96,36 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
         _images_to_video(inputs, output, out_pix_fmt or "yuv420p")
 
 
-def _convert_cameras(inputs, output: Path, size, znear, zfar, transposed_rotation):
+def _convert_cameras(inputs, output: Path, size, znear, zfar, fps, frame_count,
+                     transposed_rotation):
     if len(inputs) != 1:
         raise UsageError("give one camera file at a time")
     source = Path(inputs[0])
-    if source.suffix.lower() == ".json":
-        cameras = read_json_cameras(source)
-        if output.suffix.lower() == ".json":
-            write_json_cameras(output, cameras)
-        else:
-            write_cameras(output, cameras, transposed_rotation=transposed_rotation)
-        return
-    depth_range = _range(znear, zfar) if (znear, zfar) != (None, None) else None
-    write_json_cameras(output, read_cameras(source, transposed_rotation=transposed_rotation),
-                       size=size, depth_range=depth_range)
+    depth_range = _camera_depth_range(znear, zfar)
+    if source.suffix.lower() != ".json":
+        write_json_cameras(output, read_cameras(source, transposed_rotation=transposed_rotation),
+                           size=size, depth_range=depth_range, fps=fps or DEFAULT_FPS,
+                           frame_count=frame_count or 1)
+    elif output.suffix.lower() != ".json":
+        write_cameras(output, read_json_cameras(source), transposed_rotation=transposed_rotation)
+    else:
+        sequence = read_json_sequence(source)
+        sequence.cameras = {name: replace(camera,
+                                          size=size or camera.size,
+                                          depth_range=depth_range or camera.depth_range)
+                            for name, camera in sequence.cameras.items()}
+        sequence.fps = fps or sequence.fps
+        sequence.frame_count = frame_count or sequence.frame_count
+        write_json_sequence(output, sequence)
+
+
+def _camera_depth_range(znear, zfar) -> tuple[float, float] | None:
+    """``Depth_range`` from --znear/--zfar; negative ranges (VSRS) are the writer's to turn."""
+    if (znear, zfar) == (None, None):
+        return None
+    if znear is None or zfar is None:
+        raise UsageError("give both --znear and --zfar for the cameras' Depth_range")
+    return znear, zfar
 
 
 def _range(znear, zfar) -> tuple[float, float]:
