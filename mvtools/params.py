@@ -514,6 +514,12 @@ class DersParams(_ProgramParams):
         if self.search_depth_range is not None and self.depth_range is None:
             raise ParamError(("NearestSearchDepthValue", "NearestDepthValue"),
                              "a z search range needs NearestDepthValue and FarthestDepthValue")
+        if (self.depth_type == 0 and self.search_depth_range is not None
+                and depth_sign(*self.search_depth_range) != depth_sign(*self.depth_range)):
+            raise ParamError(("NearestSearchDepthValue", "NearestDepthValue"),
+                             f"{self.search_depth_range[0]:g} and {self.depth_range[0]:g} have "
+                             "opposite signs: the search would put the scene on the other "
+                             "side of the cameras")
         mode = self.depth_estimation_mode
         needed = ({"FileCenterManual": self.file_center_manual} if mode in (1, 2) else
                   {"RefDepthCameraName": self.ref_depth_camera_name,

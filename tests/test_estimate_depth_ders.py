@@ -95,6 +95,38 @@ def test_arc_rig_z_range_gives_the_true_depth_in_16_bits(tmp_path):
     assert (error <= 2).mean() > 0.95
 
 
+def test_negative_range_of_a_mirrored_world_gives_the_true_depth(tmp_path):
+    """Poznan's convention: the arc rig's world mirrored through the origin (X -> -X, so
+    camera centres t -> -t, rotations kept) sees the same pictures with every depth
+    along a camera axis negated; the DERS ranges are negated too. The depth maps must
+    code the true z, negative: -2 at value 255, -13 at 0."""
+    folder = tmp_path / "arc"
+    shutil.copytree(SAMPLE / "arc", folder)
+    cameras = read_cameras(folder / "cameras.txt")
+    mirrored = "".join(
+        f"{camera.name}\n" + "\n".join(" ".join(f"{value:.17g}" for value in row)
+                                       for row in camera.K) + "\n0\n0\n"
+        + "\n".join(" ".join(f"{value:.17g}" for value in (*camera.R[i], -camera.t[i]))
+                    for i in range(3)) + "\n\n"
+        for camera in cameras.values())
+    (folder / "cameras.txt").write_text(mirrored)
+    output = tmp_path / "depth.yuv"
+    code, _, err = run("estimate-depth", folder / "depth_cam2.cfg", "--frames", 1,
+                       "NumberOfDepthSteps=64", "NearestDepthValue=-2", "FarthestDepthValue=-13",
+                       "NearestSearchDepthValue=-2", "FarthestSearchDepthValue=-13",
+                       "--depth-bits", 16, "-o", output)
+    assert code == 0, err
+    description = json.loads(Path(f"{output}.json").read_text())
+    assert (description["NearestDepthValue"], description["FarthestDepthValue"]) == (-2, -13)
+    values = read_frame(output, YuvFormat(*SIZE, "400", 16))[0]
+    inverse = 1.0 / depth_to_z(values, -2.0, -13.0, bits=16)
+    step = (1 / ZNEAR - 1 / ZFAR) / 63
+    error = np.abs(inverse + true_inverse_depth("arc")) / step
+    # As the arc rig itself (0.93 within one plane, 0.98 within two).
+    assert (error <= 1).mean() > 0.85
+    assert (error <= 2).mean() > 0.95
+
+
 def _crop_camera(camera: Camera, left: int, top: int) -> Camera:
     k = camera.K.copy()
     k[0, 2] -= left

@@ -45,7 +45,7 @@ from mvtools.depth.refine import fill_from_background, median_smooth, near_depth
 from mvtools.depth.segment import plane_segments, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import winner_takes_all
 from mvtools.geometry.camera import Camera
-from mvtools.geometry.depth import ders_depth_range
+from mvtools.geometry.depth import ders_depth_range, depth_sign, facing_camera
 from mvtools.params import DersParams
 
 __all__ = ["Neighbour", "DersEstimator", "TEMPORAL_BLOCK"]
@@ -86,11 +86,17 @@ class DersEstimator:
 
     Attributes
     ----------
+    center : Camera
+        The center camera, turned to face a negative range
+        (:func:`mvtools.geometry.depth.facing_camera`); likewise the neighbours'.
     inverse_depths : ndarray of float64, shape (D,)
-        ``1/z`` of the planes searched, increasing (far to near).
+        ``1/z`` of the planes searched along the facing center camera's axis (world
+        z for DepthType 1), far to near.
     depth_range : (float, float)
-        (Znear, Zfar) that the output depth values mean: NearestDepthValue and
-        FarthestDepthValue, or the z of the disparity range's ends (Zfar may be inf).
+        (Znear, Zfar) that the output depth values mean, signed as given:
+        NearestDepthValue and FarthestDepthValue, or the z of the disparity range's
+        ends (Zfar may be inf); :class:`mvtools.geometry.depth.DepthCoding` of it
+        writes :meth:`frame`'s depths.
 
     Raises
     ------
@@ -114,6 +120,14 @@ class DersEstimator:
             raise ValueError(f"DepthEstimationMode {params.depth_estimation_mode} (manual input "
                              "or reference depth) is not supported; use 0 (automatic)")
         self.params = params
+        # A negative range (or world planes behind a camera) turns the cameras round to
+        # face the scene (mvtools.geometry.depth): depths along their axes are positive.
+        facing_range = params.depth_range or params.search_depth_range
+        if facing_range is not None:
+            center = facing_camera(center, facing_range, depth_type=params.depth_type)
+            neighbours = [Neighbour(facing_camera(n.camera, facing_range,
+                                                  depth_type=params.depth_type), n.side)
+                          for n in neighbours]
         self.center = center
         self.neighbours = list(neighbours)
         self.method = method
@@ -151,7 +165,9 @@ class DersEstimator:
         params = self.params
         if params.search_depth_range is not None:
             nearest, farthest = params.search_depth_range
-            return np.linspace(1.0 / farthest, 1.0 / nearest, params.number_of_depth_steps)
+            # Inverse depths along the facing cameras' axes (world z for DepthType 1).
+            sign = depth_sign(nearest, farthest) if params.depth_type == 0 else 1
+            return sign * np.linspace(1.0 / farthest, 1.0 / nearest, params.number_of_depth_steps)
         if params.depth_type == 1:
             raise ValueError("DepthType 1 needs the search range in z (NearestSearchDepthValue, "
                              "FarthestSearchDepthValue)")
@@ -191,7 +207,7 @@ class DersEstimator:
         Returns
         -------
         ndarray of float64, shape (H, W)
-            Depth ``z`` along the center camera's axis (DepthType 0) or world ``Z``
+            Depth ``z`` along the facing center camera's axis (DepthType 0) or world ``Z``
             (DepthType 1); ``inf`` for the plane at infinity.
         """
         params = self.params
