@@ -173,6 +173,31 @@ def test_convert_depth_8_to_16_bit_keeps_meaning_and_z_is_exact(tmp_path):
     assert np.array_equal(read_frame(tmp_path / "back_4x2_yuv420p.yuv")[0], luma)
 
 
+def test_convert_negative_depth_range_gives_signed_z_and_positive_disparity(tmp_path):
+    """Poznan's convention: Znear -2, Zfar -10; 1/z = v/255 (1/Znear - 1/Zfar) + 1/Zfar."""
+    fmt = YuvFormat(2, 2)
+    luma = np.array([[0, 255], [128, 64]], np.uint8)
+    chroma = np.full((1, 1), 128, np.uint8)
+    write_video(tmp_path / "d.yuv", fmt, [(luma, chroma, chroma)])
+    common = ("--size", "2x2", "--depth", "--znear", -2, "--zfar", -10)
+    code, _, err = run("convert", tmp_path / "d.yuv", *common, "--to", "z", "-o", tmp_path / "z.pfm")
+    assert code == 0, err
+    z = read_image(tmp_path / "z.pfm")
+    expected = 1 / (luma / 255 * (-0.5 + 0.1) - 0.1)
+    np.testing.assert_allclose(z, expected, rtol=1e-6)
+    assert z[0, 0] == pytest.approx(-10) and z[0, 1] == pytest.approx(-2)
+    code, _, err = run("convert", tmp_path / "d.yuv", *common, "--to", "disparity", "--focal",
+                       100, "--baseline", 0.5, "-o", tmp_path / "disparity.pfm")
+    assert code == 0, err
+    np.testing.assert_allclose(read_image(tmp_path / "disparity.pfm"), -50 / expected, rtol=1e-6)
+    for quantity, source in (("z", "z.pfm"), ("disparity", "disparity.pfm")):
+        extra = ("--focal", 100, "--baseline", 0.5) if quantity == "disparity" else ()
+        code, _, err = run("convert", tmp_path / source, "--from", quantity, "--znear", -2,
+                           "--zfar", -10, *extra, "-o", tmp_path / f"back_{quantity}_2x2_yuv420p.yuv")
+        assert code == 0, err
+        assert np.array_equal(read_frame(tmp_path / f"back_{quantity}_2x2_yuv420p.yuv")[0], luma)
+
+
 # --------------------------------------------------------------------- bad input
 
 def test_truncated_yuv_names_file_and_format_and_writes_nothing(tmp_path):
@@ -239,10 +264,11 @@ def test_znear_not_below_zfar(tmp_path):
     code, _, err = run("inspect", config)
     assert code == 2
     assert_one_line_error(err, "LeftNearestDepthValue")
-    code, _, err = run("convert", "x.pfm", "--from", "z", "--znear", 10, "--zfar", 5,
-                       "-o", tmp_path / "d.yuv")
-    assert code == 2
-    assert_one_line_error(err, "--znear")
+    for znear, zfar, message in ((10, 5, "farther than"), (-2, 10, "opposite signs")):
+        code, _, err = run("convert", "x.pfm", "--from", "z", "--znear", znear, "--zfar", zfar,
+                           "-o", tmp_path / "d.yuv")
+        assert code == 2
+        assert_one_line_error(err, "--znear", message)
 
 
 def test_non_numeric_value(tmp_path):

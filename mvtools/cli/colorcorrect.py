@@ -22,7 +22,7 @@ from mvtools.color.correspondence import (common_view_samples, corresponding_sam
                                           warped_psnr)
 from mvtools.color.lut import apply_lut
 from mvtools.errors import DataError, UsageError
-from mvtools.geometry.depth import depth_to_z
+from mvtools.geometry.depth import DepthCoding, facing_camera
 from mvtools.io.cameras import get_camera
 from mvtools.io.color_charts import DEFAULT_CHART, read_colorchecker
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
@@ -294,8 +294,14 @@ class _Matcher:
         self.names, self.reference, self.cameras = names, reference, cameras
         self.depth_videos, self.fmt, self.space = depth_videos, fmt, space
         self.depth_range = None
+        self._codings = {}
         if cameras is not None:
             self.depth_range = depth_range or _camera_depth_range(cameras, names)
+            try:
+                self.cameras = {name: facing_camera(camera, self.depth_range)
+                                for name, camera in cameras.items()}
+            except ValueError as error:
+                raise UsageError(str(error), key="--depth-range") from None
         missing = [name for name in names if name not in depth_videos]
         if depth_videos and missing:
             raise UsageError(f"depth maps are given for some views but not for "
@@ -304,7 +310,10 @@ class _Matcher:
 
     def _z(self, name, index):
         video = self.depth_videos[name]
-        return depth_to_z(video.read(index)[0], *self.depth_range, bits=video.format.bits)
+        bits = video.format.bits
+        if bits not in self._codings:
+            self._codings[bits] = DepthCoding(self.depth_range, bits)
+        return self._codings[bits].z(video.read(index)[0])
 
     def samples(self, videos, frames):
         codes = {}

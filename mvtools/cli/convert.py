@@ -15,7 +15,8 @@ from mvtools.cli.progress import Progress
 from mvtools.color.levels import convert_planes, depth_preview, requantize
 from mvtools.color.space import rgb_to_yuv, yuv_to_rgb
 from mvtools.errors import DataError, UsageError
-from mvtools.geometry.depth import depth_to_z, disparity_to_z, z_to_depth, z_to_disparity
+from mvtools.geometry.depth import (check_depth_range, depth_sign, depth_to_z, disparity_to_z,
+                                    z_to_depth, z_to_disparity)
 from mvtools.io.cameras import read_cameras, write_cameras
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
 from mvtools.io.json_cameras import (DEFAULT_FPS, read_json_cameras, read_json_sequence,
@@ -131,8 +132,10 @@ def _camera_depth_range(znear, zfar) -> tuple[float, float] | None:
 def _range(znear, zfar) -> tuple[float, float]:
     if znear is None or zfar is None:
         raise UsageError("--znear and --zfar are needed to interpret depth values")
-    if not 0 < znear < zfar:
-        raise UsageError(f"need 0 < --znear < --zfar, got znear {znear:g}, zfar {zfar:g}")
+    try:
+        check_depth_range(znear, zfar)
+    except ValueError as error:
+        raise UsageError(str(error), key="--znear/--zfar") from None
     return znear, zfar
 
 
@@ -191,8 +194,9 @@ def _depth_video_to_pfm(path, size, pix_fmt, start, count, output, quantity, dep
     with open_input_video(path, size, pix_fmt) as video:
         frames = frame_range([video], start, count)
         for index in frames:
+            # z signed as the file codes it; disparity positive, as in front of the camera
             z = depth_to_z(video.read(index)[0], *depth_range, bits=video.format.bits)
-            values = z if quantity == "z" else z_to_disparity(z, focal, baseline)
+            values = z if quantity == "z" else z_to_disparity(np.abs(z), focal, baseline)
             write_image(_frame_name(output, index, len(frames)), values.astype(np.float32))
 
 
@@ -205,7 +209,8 @@ def _pfm_to_depth_video(inputs, output, out_pix_fmt, quantity, depth_range, foca
             values = read_image(path)
             if values.ndim != 2 or values.dtype.kind != "f":
                 raise DataError("expected a one-channel PFM of z or disparity", path=path)
-            z = values if quantity == "z" else disparity_to_z(values, focal, baseline)
+            z = values if quantity == "z" else (depth_sign(*depth_range)
+                                                * disparity_to_z(values, focal, baseline))
             if target is None:
                 target = YuvFormat.from_pix_fmt(values.shape[1], values.shape[0], out_pix_fmt)
                 writer.start(target)

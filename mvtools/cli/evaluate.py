@@ -16,7 +16,7 @@ from mvtools.cli.options import ProgramCommand, frame_range_options, program, vi
 from mvtools.cli.progress import Progress
 from mvtools.datasets import nonoccluded_pixels
 from mvtools.errors import ConfigError, DataError, UsageError
-from mvtools.geometry.depth import depth_to_z, z_to_disparity
+from mvtools.geometry.depth import DepthCoding, check_depth_range, z_to_disparity
 from mvtools.io.atomic import atomic_output
 from mvtools.io.files import read_json
 from mvtools.io.images import read_image
@@ -263,6 +263,10 @@ def _focal_and_baseline(cameras, camera: str | None, neighbour: str | None) -> t
 def _depth_range(video: str, given, option: str) -> tuple[float, float]:
     """Znear, Zfar given on the command line, or else from the video's JSON sidecar."""
     if given is not None:
+        try:
+            check_depth_range(float(given[0]), float(given[1]))
+        except ValueError as error:
+            raise UsageError(str(error), key=option) from None
         return float(given[0]), float(given[1])
     sidecar = Path(str(video) + ".json")
     if not sidecar.exists():
@@ -293,8 +297,8 @@ def _evaluate_depth(reference: Path, test: Path, reference_range, test_range, fo
         rows, histogram = [], 0
         for index in frames:
             truth, estimate = (
-                z_to_disparity(depth_to_z(video.read(index)[0], *ranges[name],
-                                          bits=video.format.bits), focal, baseline)
+                z_to_disparity(DepthCoding(ranges[name], video.format.bits).z(
+                    video.read(index)[0]), focal, baseline)
                 for name, video in (("reference", ref_video), ("test", test_video)))
             try:
                 score = score_disparity(estimate, truth, thresholds=thresholds)

@@ -15,7 +15,7 @@ from mvtools.cli.options import (ProgramCommand, parse_size, frame_range_options
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.camera import turn_world
-from mvtools.geometry.depth import depth_to_z, z_to_depth
+from mvtools.geometry.depth import DepthCoding, check_depth_range
 from mvtools.io.cameras import get_camera, write_cameras
 from mvtools.io.json_cameras import read_camera_file, write_json_cameras
 from mvtools.io.yuv import open_writer
@@ -198,12 +198,15 @@ def _write_cameras(path: Path, cameras) -> None:
 
 
 def _depth_range_of(camera, depth_range, path) -> tuple[float, float]:
-    if depth_range is not None:
-        return tuple(depth_range)
-    if camera.depth_range is not None:
-        return tuple(camera.depth_range)
-    raise UsageError("the depth map's Znear and Zfar are unknown: give --depth-range ZNEAR ZFAR",
-                     path=path)
+    if depth_range is None and camera.depth_range is None:
+        raise UsageError("the depth map's Znear and Zfar are unknown: give --depth-range ZNEAR "
+                         "ZFAR", path=path)
+    given = depth_range if depth_range is not None else camera.depth_range
+    try:
+        check_depth_range(*given)
+    except ValueError as error:
+        raise UsageError(str(error), key="--depth-range") from None
+    return tuple(given)
 
 
 def _rectify_video(path: Path, out: Path, kind: str, result: Rectification, index: int,
@@ -217,15 +220,16 @@ def _rectify_video(path: Path, out: Path, kind: str, result: Rectification, inde
         factors = _subsampling(fmt)
         chroma = chroma_maps(map_x, map_y, subsampling=factors) if factors else None
         if kind == "depth":
-            znear, zfar = depth_range
+            coding = DepthCoding(depth_range, fmt.bits)
             resample = DepthResampler(source_camera, result.cameras[index], map_x, map_y)
         progress = Progress(len(frames), f"{path.name} frames rectified")
         with open_writer(target, fmt) as writer:
             for frame in frames:
                 planes = video.read(frame)
                 if kind == "depth":
-                    z = depth_to_z(planes[0], znear, zfar, bits=fmt.bits)
-                    luma = z_to_depth(resample(z), znear, zfar, bits=fmt.bits)
+                    # Depths along the axes, as positive as the facing cameras' (the
+                    # rectified axis measures them alike: the factor is positive).
+                    luma = coding.values(resample(coding.z(planes[0])))
                     # Outside the source there is no depth: the farthest value.
                     rest = [np.full_like(plane, mid) for plane in planes[1:]]
                 else:

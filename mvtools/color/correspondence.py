@@ -253,13 +253,16 @@ def common_view_samples(view: np.ndarray, view_camera: Camera, target: np.ndarra
         Pictures of one size; the cameras take it as theirs.
     view_camera, target_camera : Camera
     depth_range : (znear, zfar)
+        Either sign, the cameras facing it
+        (:func:`mvtools.geometry.depth.facing_camera`): the points lie at the positive
+        depth of that magnitude.
 
     Returns
     -------
     view_samples, target_samples : ndarray, shapes (N, C) and (M, C)
     """
     znear, zfar = depth_range
-    z = 2.0 / (1.0 / znear + 1.0 / zfar)
+    z = 2.0 / abs(1.0 / znear + 1.0 / zfar)
     size = (view.shape[1], view.shape[0])
     seen = common_view(view_camera, replace(target_camera, size=size), view.shape[:2], z)
     seen_back = common_view(target_camera, replace(view_camera, size=size), target.shape[:2], z)
