@@ -1,5 +1,5 @@
 """``mvtools encode`` with Debian's x265 and ffmpeg on the sample views, the bitrate
-calculator against the seed's worked figures, and the missing-encoder message."""
+calculator against the chapter's worked figures, and the missing-encoder message."""
 
 from __future__ import annotations
 
@@ -31,9 +31,9 @@ needs_encoders = pytest.mark.skipif(
 
 
 def test_the_seeds_worked_bitrates():
-    # seed eq. 1.7: nine HD cameras, 8-bit 4:2:0, 25 frames/s: about 5.6 Gbit/s
+    # the chapter's eq. 1.7: nine HD cameras, 8-bit 4:2:0, 25 frames/s: about 5.6 Gbit/s
     assert raw_bitrate(1920, 1080, fps=25, views=9) == pytest.approx(5.5987e9, rel=1e-4)
-    # seed eq. 1.21-1.22: ten HD views simulcast with HEVC: about 40 Mbit/s
+    # the chapter's eq. 1.21-1.22: ten HD views simulcast with HEVC: about 40 Mbit/s
     assert compressed_bitrate(1920, 1080, fps=25, views=10, codec="hevc") == pytest.approx(40e6)
     # each codec generation halves the rate
     assert compressed_bitrate(1920, 1080, fps=25, codec="avc") == 2 * compressed_bitrate(

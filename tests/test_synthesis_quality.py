@@ -1,5 +1,5 @@
 """The measured bars of view synthesis (issue 3), and every failure of the reference
-program (spec section 7) turned into a test that passes here.
+program turned into a test that passes here.
 
 Quality is scored on real ground truth: Middlebury Cones as multiview-plus-depth
 (:func:`mvtools.datasets.cones_multiview`: im4 synthesized from im2 and im6 with their
@@ -130,7 +130,7 @@ def test_kendo_camera_3_from_views_1_and_3_gives_view_3_back(tmp_path, blending)
     assert score >= KENDO_MIN_PSNR
 
 
-# --------------------------------------------------------------------- spec section 7
+# --------------------------------------------------------------------- the reference programs' failures
 # Each failure of VSRS 4.2 is checked against what the same input gives otherwise here
 # (the scores of ``cones_scores``), and against GOOD_PICTURE, far above a broken warp.
 

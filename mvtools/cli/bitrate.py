@@ -21,8 +21,8 @@ from mvtools.pack.bitrate import CHROMA_SAMPLES, HD_BITRATES, compressed_bitrate
               show_default=True, help="Chroma subsampling.")
 @program
 def command(size, fps, views, bits, chroma):
-    """The raw bitrate of VIEWS cameras (seed eq. 1.7) and the compressed estimate for
-    simulcast with each codec generation (seed eq. 1.21-1.22: about half the rate per
+    """The raw bitrate of VIEWS cameras (the chapter's eq. 1.7) and the compressed estimate for
+    simulcast with each codec generation (the chapter's eq. 1.21-1.22: about half the rate per
     generation, HEVC about 4 Mbit/s per HD view at 25 frames/s)."""
     width, height = size
     raw = raw_bitrate(width, height, fps=fps, views=views, bits=bits, chroma=chroma)

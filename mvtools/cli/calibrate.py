@@ -61,7 +61,7 @@ def _parse_corners(ctx, param, value):
 @click.option("--reference", default=None, metavar="NAME",
               help="Camera that defines the world frame (default: the first).")
 @click.option("--tangential/--no-tangential", default=True, show_default=True,
-              help="Fit the tangential distortion P1, P2 besides K1, K2 (the seed's lens "
+              help="Fit the tangential distortion P1, P2 besides K1, K2 (the chapter's lens "
                    "model). The MPEG camera file stores only K1 and K2; --no-tangential fits "
                    "a model the file holds exactly.")
 @click.option("--max-capture-rms", type=click.FloatRange(min=0, min_open=True), default=1.0,

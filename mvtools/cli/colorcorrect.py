@@ -87,7 +87,7 @@ LOG = logging.getLogger("mvtools")
 def command(views, reference, target, chart_reference, chart_name, chart_corners, chart_model,
             camera_file, depths, depth_range, space, estimate_frames, estimate_from, out_dir,
             size, pix_fmt, start_frame, frame_count, transposed_rotation):
-    """Per-channel look-up tables that make the views' colours agree (seed eq. 1.18),
+    """Per-channel look-up tables that make the views' colours agree (the chapter's eq. 1.18),
     estimated from pixels that project onto each other (given cameras and depth maps)
     or else by cumulative-histogram matching, then applied to every frame.
 

@@ -485,7 +485,7 @@ def _patch_candidates(rgb: np.ndarray):
 
 
 def _aligned_bases(bases: np.ndarray, seed: int) -> np.ndarray:
-    """Each basis with its edge vectors ordered and signed to follow the seed's."""
+    """Each basis with its edge vectors ordered and signed to follow the seed basis's."""
     reference = bases[seed] / np.linalg.norm(bases[seed], axis=0)
     vectors = np.concatenate([np.swapaxes(bases, 1, 2), -np.swapaxes(bases, 1, 2)], axis=1)
     cosines = (vectors / np.linalg.norm(vectors, axis=2, keepdims=True)) @ reference
@@ -511,7 +511,7 @@ def _lattice(centres: np.ndarray, bases: np.ndarray, areas: np.ndarray, ratios: 
     """Integer lattice positions {candidate: (i, j)} of the candidates reachable from
     ``seed`` by steps of up to :data:`_MAX_STEP` patches, each measured in the edge basis
     of the patch it starts from, so that the lattice may bend with perspective. The
-    pitch is the seed's, then the median of the patches so found."""
+    pitch is the seed patch's, then the median of the patches so found."""
     inverses = np.linalg.inv(_aligned_bases(bases, seed))
     members = [seed]
     for _ in range(2):

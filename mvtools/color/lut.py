@@ -1,4 +1,4 @@
-"""Per-channel look-up tables that make one view's colours agree with another's (seed
+"""Per-channel look-up tables that make one view's colours agree with another's (the chapter's
 eq. 1.18): estimated from corresponding samples or from cumulative histograms, made
 monotonic and smooth, combined into a common target, and applied to planes.
 
@@ -210,7 +210,7 @@ def average_target(tables: list[np.ndarray]) -> list[np.ndarray]:
     ``tables[i]`` maps view ``i`` to a common reference (the reference view's own table
     is the identity). A reference value ``r`` is seen as ``tables[i]^-1(r)`` by view
     ``i``; the average profile is their mean ``m(r)``, and view ``i`` is corrected by
-    ``m(tables[i](v))`` (seed ref. [30]). The result does not depend on which view was
+    ``m(tables[i](v))`` (the chapter's ref. [30]). The result does not depend on which view was
     the reference, up to interpolation.
 
     Parameters

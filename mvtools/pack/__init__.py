@@ -1,4 +1,4 @@
-"""Frame-compatible packing of views and depth maps (seed section 1.6): layouts, packing
+"""Frame-compatible packing of views and depth maps (the chapter's section 1.6): layouts, packing
 and unpacking of frames."""
 
 from mvtools.pack.frames import CHROMA_FACTORS, pack_frame, unpack_frame

@@ -1,5 +1,5 @@
-"""Bitrates for planning a multiview system: the raw bitrate of a camera array (seed
-eq. 1.7) and the compressed estimate per codec generation (seed eq. 1.21-1.22).
+"""Bitrates for planning a multiview system: the raw bitrate of a camera array (the chapter's
+eq. 1.7) and the compressed estimate per codec generation (the chapter's eq. 1.21-1.22).
 
 The compressed estimate scales a codec's typical bitrate for one HD view (1920x1080,
 25 frames/s, 8-bit 4:2:0, broadcast quality) by the pixel rate, and multiplies by the
@@ -28,7 +28,7 @@ def _check(width, height, fps, views):
 
 def raw_bitrate(width: int, height: int, *, fps: float, views: int = 1, bits: int = 8,
                 chroma: str = "420") -> float:
-    """Bit/s of uncompressed video from ``views`` cameras (seed eq. 1.7).
+    """Bit/s of uncompressed video from ``views`` cameras (the chapter's eq. 1.7).
 
     ``width * height * samples per pixel * bits * fps * views``; nine HD cameras at
     8-bit 4:2:0 and 25 frames/s give 5.6 Gbit/s.
@@ -42,7 +42,7 @@ def raw_bitrate(width: int, height: int, *, fps: float, views: int = 1, bits: in
 def compressed_bitrate(width: int, height: int, *, fps: float, views: int = 1,
                        codec: str = "hevc") -> float:
     """Estimated bit/s of ``views`` views coded one by one (simulcast) with ``codec``
-    (seed eq. 1.21-1.22): ten HD views with HEVC need about 40 Mbit/s."""
+    (the chapter's eq. 1.21-1.22): ten HD views with HEVC need about 40 Mbit/s."""
     _check(width, height, fps, views)
     if codec not in HD_BITRATES:
         raise ValueError(f"codec must be one of {', '.join(HD_BITRATES)}, got {codec!r}")

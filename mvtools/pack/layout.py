@@ -1,4 +1,4 @@
-"""Frame-compatible layouts: where each view goes in a packed frame (seed fig. 1.52).
+"""Frame-compatible layouts: where each view goes in a packed frame (the chapter's fig. 1.52).
 
 A :class:`Layout` places views (textures, and depth maps for atlases) at luma offsets
 of one larger frame. Offsets and sizes of every placement are even, so that the chroma

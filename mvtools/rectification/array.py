@@ -1,6 +1,6 @@
 """Lens distortion removal and rectification of a pair or a linear array of cameras.
 
-Rectification (seed fig. 1.16) turns every camera about its own centre to one common
+Rectification (the chapter's fig. 1.16) turns every camera about its own centre to one common
 orientation and gives them all the same intrinsics, so that the epipolar lines of
 any two views become the same image rows:
 

@@ -1,7 +1,7 @@
 """Merging warped views: distance weights and depth-aware blending.
 
 Two warped views of one virtual pixel either show the same surface (their depths
-agree) and are blended with the distance weights of seed eq. 1.20, or show
+agree) and are blended with the distance weights of the chapter's eq. 1.20, or show
 different surfaces, and then the nearer one is the visible one. Depths are
 compared in inverse depth, the quantity depth maps are linear in, with the
 tolerance ``DepthBlendDifference`` given in 8-bit depth-value units of ONE common
@@ -24,7 +24,7 @@ __all__ = ["view_weights", "at_virtual_camera", "merge_views"]
 
 
 def view_weights(virtual_camera: Camera, reference_cameras: Sequence[Camera]) -> np.ndarray:
-    """Blending weight of each reference view (seed eq. 1.20).
+    """Blending weight of each reference view (the chapter's eq. 1.20).
 
     For two views ``w_left = |t_v - t_right| / (|t_v - t_left| + |t_v - t_right|)``:
     the nearer camera weighs more; these are the normalised inverse distances

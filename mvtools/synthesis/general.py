@@ -1,6 +1,6 @@
 """VSRS general mode: 3D warping of one reference view into the virtual camera.
 
-Three steps per reference view (seed section 1.5, spec section 3):
+Three steps per reference view (the chapter's section 1.5):
 
 1. **Forward warp of the depth** with a z-buffer: every reference pixel's 3D point is
    projected into the virtual camera and rounded to the nearest pixel (half up); the
