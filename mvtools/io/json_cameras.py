@@ -305,12 +305,13 @@ def read_json_cameras(path: str | os.PathLike) -> dict[str, Camera]:
 def _scene_side(depth_range: tuple[float, float], name: str, path: Path) -> int:
     """+1 when the range lies in front of the camera, -1 when at negative z (VSRS)."""
     near, far = depth_range
-    if 0 < near < far:
+    if 0 < near < far < math.inf:
         return 1
-    if far < near < 0:
+    if -math.inf < far < near < 0:
         return -1
     raise UsageError(f"camera {name!r}: depth range (near {near:g}, far {far:g}) needs "
-                     "0 < near < far, or far < near < 0 for a scene at negative z", path=path)
+                     "0 < near < far, or far < near < 0 for a scene at negative z, both "
+                     "finite", path=path)
 
 
 def _facing_scene(cameras: list[Camera], depth_range, path: Path) -> list[Camera]:
@@ -373,17 +374,8 @@ def _camera_to_json(camera: Camera, size, video: VideoDescription, path: Path) -
     size = camera.size if camera.size is not None else size
     if camera.depth_range is not None:
         entry["Depth_range"] = [float(x) for x in camera.depth_range]
-        if camera.depth_range[1] > RVS_FAR_LIMIT:
-            logger.warning("%s: camera %r: far depth %g is above %g, which RVS refuses (it "
-                           "stands for infinity there); scale the world to a larger unit",
-                           path, camera.name, camera.depth_range[1], RVS_FAR_LIMIT)
     if size is not None:
         entry["Resolution"] = [int(x) for x in size]
-    missing = [field for field, value in (("Depth_range", camera.depth_range), ("Resolution", size))
-               if value is None]
-    if missing:
-        logger.warning("%s: camera %r has no %s, which RVS and TMIV require", path,
-                       camera.name, " or ".join(missing))
     entry.update({"Projection": "Perspective",
                   "Focal": [camera.fx, camera.fy],
                   "Principle_point": [_json_pixel_coordinate(camera.cx),
@@ -441,6 +433,17 @@ def write_json_cameras(path: str | os.PathLike, cameras: Iterable[Camera] | Mapp
         description = video.get(camera.name, VideoDescription()) \
             if isinstance(video, Mapping) else video
         entries.append(_camera_to_json(camera, size, description, path))
+    too_far = [entry["Name"] for entry in entries
+               if "Depth_range" in entry and entry["Depth_range"][1] > RVS_FAR_LIMIT]
+    if too_far:
+        logger.warning("%s: far depth above %g for camera %s, which RVS refuses (%g stands for "
+                       "infinity there); a larger world unit brings it below", path,
+                       RVS_FAR_LIMIT, ", ".join(too_far), RVS_FAR_LIMIT)
+    for field in ("Depth_range", "Resolution"):
+        lacking = [entry["Name"] for entry in entries if field not in entry]
+        if lacking:
+            logger.warning("%s: no %s for camera %s, which RVS and TMIV require", path, field,
+                           ", ".join(lacking))
     document = {"Version": JSON_VERSION,
                 "Content_name": content_name if content_name is not None else path.stem,
                 "Fps": int(fps) if float(fps).is_integer() else float(fps),
