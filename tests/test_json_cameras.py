@@ -16,6 +16,7 @@ from program_runner import assert_one_line_error, invoke
 from shared_data import shared_data
 
 from mvtools.cli import convert
+from mvtools.errors import UsageError
 from mvtools.geometry import Camera
 from mvtools.io.cameras import read_cameras, write_cameras
 from mvtools.io.json_cameras import read_json_sequence, write_json_cameras
@@ -213,7 +214,7 @@ def test_depth_ranges_that_face_no_way_are_refused(tmp_path, znear, zfar, fragme
 def test_positive_and_negative_ranges_in_one_file_are_refused(tmp_path):
     front, behind = _rig()
     front.depth_range, behind.depth_range = (1.0, 10.0), (-1.0, -10.0)
-    with pytest.raises(Exception, match="camera 'left' has a positive depth range and camera "
+    with pytest.raises(UsageError, match="camera 'left' has a positive depth range and camera "
                                         "'right' a negative one"):
         write_json_cameras(tmp_path / "mixed.json", [front, behind])
 
