@@ -35,11 +35,15 @@ def test_every_camera_and_config_file_loads(relative):
 
 
 def test_published_file_count():
-    # The folder's manifest lists 23 VSRS camera files, 12 VSRS configs and the Kendo set.
+    # The folder's manifests list 23 VSRS camera files, 12 VSRS configs, the Kendo set's
+    # 7 files and Poznan Hall 2's 19 (its camera file, 16 VSRS configurations and 2 HTM
+    # files): negative depth ranges among them.
     files = _published_files()
-    assert sum(name.startswith("vsrs_camera_parameters/") for name in files) == 23
-    assert sum(name.startswith("vsrs_configs/") for name in files) == 12
-    assert len(files) == 23 + 12 + 7
+    counts = {"vsrs_camera_parameters/": 23, "vsrs_configs/": 12, "kendo/": 7,
+              "poznan_hall2/": 19}
+    for folder, count in counts.items():
+        assert sum(name.startswith(folder) for name in files) == count, folder
+    assert len(files) == sum(counts.values())
 
 
 def test_htm_configuration_values():
