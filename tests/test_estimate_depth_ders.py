@@ -23,6 +23,7 @@ from mvtools.io.cameras import get_camera, read_cameras
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.params import DersParams
 from mvtools.synthesis.working import to_working
+from mirrored_world import write_mirrored_cameras
 from program_runner import assert_one_line_error, run
 from program_runner import invoke as invoke_program
 from shared_data import REPO_ROOT, shared_data
@@ -102,14 +103,7 @@ def test_negative_range_of_a_mirrored_world_gives_the_true_depth(tmp_path):
     code the true z, negative: -2 at value 255, -13 at 0."""
     folder = tmp_path / "arc"
     shutil.copytree(SAMPLE / "arc", folder)
-    cameras = read_cameras(folder / "cameras.txt")
-    mirrored = "".join(
-        f"{camera.name}\n" + "\n".join(" ".join(f"{value:.17g}" for value in row)
-                                       for row in camera.K) + "\n0\n0\n"
-        + "\n".join(" ".join(f"{value:.17g}" for value in (*camera.R[i], -camera.t[i]))
-                    for i in range(3)) + "\n\n"
-        for camera in cameras.values())
-    (folder / "cameras.txt").write_text(mirrored)
+    write_mirrored_cameras(folder / "cameras.txt", folder / "cameras.txt")
     output = tmp_path / "depth.yuv"
     code, _, err = run("estimate-depth", folder / "depth_cam2.cfg", "--frames", 1,
                        "NumberOfDepthSteps=64", "NearestDepthValue=-2", "FarthestDepthValue=-13",

@@ -24,6 +24,7 @@ from mvtools.geometry.projection import backproject, pixel_grid
 from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import YuvFormat, frame_from_luma, open_video, write_video
 from mvtools.metrics import psnr
+from mirrored_world import write_mirrored_cameras
 from shared_data import shared_data
 from synthesize_runner import run_synthesize
 
@@ -78,6 +79,23 @@ def test_sample_scene_camera_2_matches_the_real_view(tmp_path, folder, minimum):
     assert code == 0, err
     score = mean_luma_psnr(folder / "v2_texture_256x192_yuv420p.yuv", tmp_path / OUTPUT)
     assert len(frames_of(tmp_path / OUTPUT)) == 3
+    assert score >= minimum
+    assert score >= copy_psnr(folder) + 10
+
+
+@pytest.mark.parametrize("folder, minimum", [(LINE, LINE_MIN_PSNR), (ARC, ARC_MIN_PSNR)],
+                         ids=["line-1d-mode", "arc-general-mode"])
+def test_negative_depth_ranges_of_a_mirrored_world(tmp_path, folder, minimum):
+    """Poznan's convention: the same rig in the world mirrored through its origin, with
+    the depth ranges negated, synthesizes the same view."""
+    data = tmp_path / "data"
+    shutil.copytree(folder, data)
+    write_mirrored_cameras(data / "cameras.txt", data / "cameras.txt")
+    negated = [f"{side}{end}DepthValue={-value:g}" for side in ("Left", "Right")
+               for end, value in (("Nearest", ZNEAR), ("Farthest", ZFAR))]
+    code, _, err = run(data / "synthesize_cam2.cfg", *negated, "--frames", 1, cwd=tmp_path)
+    assert code == 0, err
+    score = mean_luma_psnr(folder / "v2_texture_256x192_yuv420p.yuv", tmp_path / OUTPUT)
     assert score >= minimum
     assert score >= copy_psnr(folder) + 10
 
@@ -313,6 +331,10 @@ def _config_copy(tmp_path: Path, folder: Path = LINE) -> Path:
     ("VirtualCameraName=", 2, ("VirtualCameraName", "no camera name given")),
     ("LeftCameraName=", 2, ("LeftCameraName", "without LeftCameraName")),
     ("LeftNearestDepthValue=13", 2, ("LeftNearestDepthValue", "farther than Zfar")),
+    ("LeftNearestDepthValue=-2", 2, ("LeftNearestDepthValue", "opposite signs")),
+    ("LeftNearestDepthValue=-2 LeftFarthestDepthValue=-13", 2,
+     ("LeftNearestDepthValue", "-2 and 2 have opposite signs",
+      "opposite sides of their cameras")),
     ("Precision=3", 2, ("Precision", "3 is not one of 1, 2, 4")),
     ("SynthesisMode=2", 2, ("SynthesisMode", "not one of 0, 1")),
     ("ColorSpace=1", 2, ("ColorSpace", "1D mode")),
@@ -320,10 +342,11 @@ def _config_copy(tmp_path: Path, folder: Path = LINE) -> Path:
     ("OutputVirtualViewImageName=", 2, ("OutputVirtualViewImageName", "no output file")),
     ("OutputVirtualViewImageName=nowhere/out.yuv", 2, ("does not exist",)),
 ], ids=["unknown-camera", "no-virtual-camera", "no-left-camera", "znear-farther-than-zfar",
-        "precision", "synthesis-mode", "rgb-in-1d-mode", "missing-file", "no-output",
+        "range-through-zero", "left-and-right-on-opposite-sides", "precision", "synthesis-mode", "rgb-in-1d-mode", "missing-file", "no-output",
         "output-folder"])
 def test_bad_settings(tmp_path, setting, code, fragments):
-    exit_code, _, err = run(LINE / "synthesize_cam2.cfg", setting, "--frames", 1, cwd=tmp_path)
+    exit_code, _, err = run(LINE / "synthesize_cam2.cfg", *setting.split(), "--frames", 1,
+                            cwd=tmp_path)
     assert exit_code == code, err
     assert_one_line_error(err, *fragments)
     assert list(tmp_path.iterdir()) == []
