@@ -30,6 +30,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from program_runner import assert_one_line_error, invoke
+from shared_data import shared_data
+from synthesize_runner import run_synthesize
 
 from mvtools.cli.estimate_depth import command as estimate_depth_command
 from mvtools.color.space import rgb_to_yuv
@@ -39,10 +42,15 @@ from mvtools.io.cameras import get_camera, read_cameras, write_cameras
 from mvtools.io.config import load_params, read_config, write_config
 from mvtools.io.yuv import YuvFormat, frame_from_luma, read_frame, write_video
 from mvtools.params import DersParams, VsrsParams
-from mvtools.scene import NoiseTexture, Plane, Rectangle, Scene, pixel_rays, project_points, render
-from program_runner import invoke
-from shared_data import shared_data
-from synthesize_runner import run_synthesize
+from mvtools.scene import (
+    NoiseTexture,
+    Plane,
+    Rectangle,
+    Scene,
+    pixel_rays,
+    project_points,
+    render,
+)
 
 #: Y-PSNR (dB) every synthesized view reaches over the pixels the references see.
 SYNTHESIS_THRESHOLD = 30.0
@@ -223,14 +231,14 @@ class Rig:
 
 def rig_of(seq: Sequence) -> Rig:
     cameras = read_cameras(shared_data("mpeg", *seq.cameras.split("/")))
-    size = tuple(int(round(s * seq.scale)) for s in seq.size)
+    size = tuple(round(s * seq.scale) for s in seq.size)
     files = [scaled(get_camera(cameras, name), seq.scale, size) for name in seq.triple]
     # Every camera of a view set faces the scene by the left range, as synthesize turns them.
     facing = [facing_camera(camera, seq.ranges[0], depth_type=seq.depth_type) for camera in files]
     return Rig(files, facing, size)
 
 
-def one_dimensional(views: "Views") -> bool:
+def one_dimensional(views: Views) -> bool:
     """Rectified-parallel: equal rotations, and centres on a line along the cameras' x
     axis to within a quarter of a pixel of parallax at the nearest surface."""
     rig = views.rig
@@ -563,3 +571,72 @@ def test_symmetric_rotations_hide_a_transposition(corpus, name):
     # Poznan and Kendo (R = I), Newspaper (R = diag(1, -1, -1)): R.T is R, so a camera
     # file written transposed is the same file; the arc of the butterfly shows it.
     assert all(np.array_equal(camera.R, camera.R.T) for camera in corpus(name).rig.files)
+
+
+# --------------------------------------------------------------------------- shipped configurations
+
+#: Every shipped VSRS configuration, the folder given with --data-dir (relative to
+#: ``mpeg/``), and the first input the corpus lacks (None: it has them all).
+SHIPPED = [
+    (C + "ViewSynthesis.cfg", "vsrs_camera_parameters", "CameraParameterFile", "cam_param_bd.txt"),
+    (C + "ViewSynthesis_book.cfg", "vsrs_camera_parameters", "LeftViewImageName",
+     "BookArrival_7.yuv"),
+    (C + "ViewSynthesis_butterfly.cfg", "vsrs_camera_parameters", "CameraParameterFile",
+     "BigBuckBunny_Butterfly2_Arc+Znear-far.txt"),
+    (C + "ViewSynthesis_champagne.cfg", "vsrs_camera_parameters", "LeftViewImageName",
+     "cmp_38.yuv"),
+    (C + "ViewSynthesis_dog.cfg", "vsrs_camera_parameters", "LeftViewImageName", "dog_38.yuv"),
+    (C + "ViewSynthesis_doorflowers.cfg", "vsrs_camera_parameters", "LeftViewImageName",
+     "DoorFlowers_7.yuv"),
+    (C + "ViewSynthesis_laptop.cfg", "vsrs_camera_parameters", "LeftViewImageName",
+     "LeavingLaptop_7.yuv"),
+    (C + "ViewSynthesis_lovebird1.cfg", "vsrs_camera_parameters", "LeftViewImageName",
+     "lovebird1_5.yuv"),
+    (C + "ViewSynthesis_lovebird2.cfg", "vsrs_camera_parameters", "LeftViewImageName",
+     "lovebird2_5.yuv"),
+    (C + "ViewSynthesis_moabit.cfg", "vsrs_camera_parameters", "CameraParameterFile",
+     "cam_param_moabit_reg.txt"),
+    (C + "ViewSynthesis_news.cfg", "vsrs_camera_parameters", "LeftViewImageName",
+     "Newspaper_3.yuv"),
+    (C + "ViewSynthesis_pantomime.cfg", "vsrs_camera_parameters", "LeftViewImageName",
+     "ptm_38.yuv"),
+] + [
+    (f"kendo/config/VSRS/vsrs_kendo_{variant}.cfg", "kendo", "LeftViewImageName", missing)
+    for variant, missing in (("matlab", "tmp_I_l.yuv"), ("matlab2", "tmp_I_recon_l.yuv"),
+                             ("matlab_WMGeneration", "tmp_I_l.yuv"), ("ori", None))
+] + [
+    (f"poznan_hall2/config/VSRS/vsrs_poznanhall2_{variant}.cfg", "poznan_hall2",
+     "LeftViewImageName", missing)
+    for variant, missing in (("matlab", "tmp_I_l.yuv"), ("matlab2", "tmp_I_recon_l.yuv"),
+                             ("matlab_WMGeneration", "tmp_I_l.yuv"), ("ori", None))
+    + tuple((f"v{view}", "tmp_I_recon_l.yuv") for view in (1, 2, 3, 4, 6, 8))
+    + tuple((f"v{view}_ori", None) for view in (1, 2, 3, 4, 6, 8))
+]
+
+
+def test_shipped_list_is_complete():
+    mpeg = shared_data("mpeg")
+    shipped = {path.relative_to(mpeg).as_posix()
+               for pattern in ("vsrs_configs/*.cfg", "kendo/config/VSRS/vsrs*.cfg",
+                               "poznan_hall2/config/VSRS/vsrs*.cfg")
+               for path in mpeg.glob(pattern)}
+    assert shipped == {row[0] for row in SHIPPED}
+
+
+@pytest.mark.parametrize("config, data_dir, key, missing", SHIPPED,
+                         ids=[Path(row[0]).stem for row in SHIPPED])
+def test_shipped_configuration_runs_unmodified(tmp_path, config, data_dir, key, missing):
+    path = shared_data("mpeg", *config.split("/"))
+    code, _, err = run_synthesize(path, "--data-dir", shared_data("mpeg", *data_dir.split("/")),
+                                  cwd=tmp_path)
+    if missing is not None:
+        assert code == 2, err
+        assert_one_line_error(err, f"{path}:", f"{key}: file ", missing, "not found")
+        assert list(tmp_path.iterdir()) == []
+        return
+    assert code == 0, err
+    params = load_params(VsrsParams, read_config(path))
+    output = tmp_path / params.output_virtual_view_image_name
+    # One frame in the corpus' videos: 4:2:0, 8 bits.
+    assert output.stat().st_size == params.source_width * params.source_height * 3 // 2
+    assert [item.name for item in tmp_path.iterdir()] == [output.name]
