@@ -92,7 +92,8 @@ def command(out_dir, width, height, frames, views, seed, samples, captures, capt
         write_cameras(folder / "cameras.txt", rigs[part])
         if not distorted:
             # The MPEG-I JSON format holds no lens distortion.
-            write_json_cameras(folder / "cameras.json", rigs[part], depth_range=depth_range)
+            write_json_cameras(folder / "cameras.json", rigs[part], depth_range=depth_range,
+                               frame_count=frames)
             _write_configs(folder, rigs[part], width=width, height=height, frames=frames,
                            depth_range=depth_range, general=part == "arc")
         if distorted:
