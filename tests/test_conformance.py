@@ -504,13 +504,6 @@ def estimate_depth(views: Views, *, corruption: str | None = None) -> float:
 # --------------------------------------------------------------------------- the tests
 
 #: 1D runs that cannot match the render, and why.
-ONE_D_DEFECTS = {
-    "news_orig": "1D mode takes the world z of DepthType 1 for the depth along the camera "
-                 "axis; Newspaper's original cameras sit at world z 2730.85, so the "
-                 "disparities are f B / Z instead of f B / (Z - 2730.85)",
-}
-
-
 @pytest.fixture(scope="module")
 def corpus(tmp_path_factory):
     """``corpus(name)``: the sequence's renders and files, made once per module."""
@@ -528,7 +521,7 @@ def corpus(tmp_path_factory):
 def test_sequence_synthesis_and_depth_match_the_render(corpus, name):
     views = corpus(name)
     scores = {"general 16-bit": synthesize(views, mode=0, bits=16)}
-    if one_dimensional(views) and name not in ONE_D_DEFECTS:
+    if one_dimensional(views):
         scores["1D 8-bit"] = synthesize(views, mode=1, bits=8)
     else:
         scores["general 8-bit"] = synthesize(views, mode=0, bits=8)
@@ -544,11 +537,6 @@ def test_shipped_1d_configurations_have_rectified_cameras(corpus):
         config = load_params(VsrsParams, read_config(shared_data("mpeg", *seq.config.split("/"))))
         if seq.own_config and config.synthesis_mode == 1:
             assert one_dimensional(corpus(name)), name
-
-
-@pytest.mark.xfail(strict=True, reason=ONE_D_DEFECTS["news_orig"])
-def test_news_orig_in_1d_mode(corpus):
-    assert synthesize(corpus("news_orig"), mode=1, bits=8) >= SYNTHESIS_THRESHOLD
 
 
 @pytest.mark.parametrize("name, corruption", [

@@ -95,6 +95,7 @@ class OneDWarper:
         if width <= 0 or height <= 0:
             raise ValueError(f"size must be positive, got {size}")
         self.size = (width, height)
+        self.reference_camera = reference_camera
         # d = scale / z - offset
         baseline = left_camera.R[0] @ (virtual_camera.t - reference_camera.t)
         self.scale = float(left_camera.fx * baseline)

@@ -29,6 +29,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from mvtools.geometry.camera import Camera
+from mvtools.geometry.projection import depth_along_axis, pixel_grid
 from mvtools.synthesis.blend import at_virtual_camera, merge_views, view_weights
 from mvtools.synthesis.boundary import remove_boundary_noise, soften_edges
 from mvtools.synthesis.general import GeneralWarper, ZBuffers
@@ -157,6 +158,9 @@ class Synthesizer:
         if options.mode == "general":
             return self._warpers[index].warp(view, precision=options.precision,
                                              filter=options.filter)
+        if options.depth_type == 1:
+            view = ReferenceView(view.camera, view.color,
+                                 _axis_depth(self._warpers[index].reference_camera, view.z))
         if self._temporal is not None:
             view = ReferenceView(view.camera, view.color,
                                  self._temporal[index].apply(view.z, view.color))
@@ -177,6 +181,16 @@ class Synthesizer:
         return merge_views(warped, self.weights, view_blending=options.view_blending,
                            depth_blend_difference=options.depth_blend_difference,
                            depth_range=self.depth_range, overwrite=True)
+
+
+def _axis_depth(camera: Camera, world_z: np.ndarray) -> np.ndarray:
+    """World z (DepthType 1) -> depth along ``camera``'s axis, for the 1D mode, which
+    warps by ``f B / depth``; points behind the camera (or at infinity) become ``inf``,
+    which the 1D mode takes as the farthest background."""
+    u, v = pixel_grid(world_z.shape[1], world_z.shape[0])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        depth = depth_along_axis(camera, u, v, world_z, depth_type=1)
+    return np.where(np.isfinite(depth) & (depth > 0), depth, np.inf)
 
 
 def _distinct(cameras: list[Camera]) -> list[int]:
