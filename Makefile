@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 BUILD ?= build
 
 .DELETE_ON_ERROR:
-.PHONY: install sample demo chain published test bench clean
+.PHONY: install sample demo chain published test test-fast bench clean
 
 install: $(VENV)/.installed
 
@@ -306,6 +306,10 @@ published: $(PUBLISHED)/cones/cones.scores $(PUBLISHED)/tsukuba/tsukuba.scores \
 
 test: install
 	$(BIN)/python -m pytest -q
+
+# The edit-test loop: everything but the tests marked slow (pipelines, corpus-wide runs).
+test-fast: install
+	$(BIN)/python -m pytest -q -m "not slow"
 
 bench: install
 	$(BIN)/python benchmarks/run.py

@@ -18,6 +18,7 @@ import time
 from pathlib import Path
 
 from common import DATA, report
+
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.metrics import psnr
 

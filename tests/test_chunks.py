@@ -11,6 +11,8 @@ import pytest
 from mvtools.cli import colorcorrect, estimate_depth, pack, rectify, synthesize
 from program_runner import invoke
 
+pytestmark = pytest.mark.slow     # `make test-fast` leaves these out
+
 SAMPLE = Path(__file__).resolve().parent.parent / "sample_data"
 LINE, DISTORTED = SAMPLE / "line", SAMPLE / "distorted"
 TEXTURE = "v{}_texture_256x192_yuv420p.yuv"

@@ -52,6 +52,8 @@ from mvtools.scene import (
     render,
 )
 
+pytestmark = pytest.mark.slow     # `make test-fast` leaves these out
+
 #: Y-PSNR (dB) every synthesized view reaches over the pixels the references see.
 SYNTHESIS_THRESHOLD = 30.0
 #: Share of the pixels both neighbours see whose estimated 8-bit depth value is within

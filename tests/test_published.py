@@ -14,6 +14,8 @@ import pytest
 
 from shared_data import REPO_ROOT, data_root, shared_data
 
+pytestmark = pytest.mark.slow     # `make test-fast` leaves these out
+
 THRESHOLDS = REPO_ROOT / "configs" / "middlebury" / "published_thresholds.txt"
 
 

@@ -19,11 +19,13 @@ Y-PSNR over the whole luma plane against the real view.
 from __future__ import annotations
 
 import pytest
+from shared_data import shared_data
+from synthesize_runner import run_synthesize
 
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.metrics import psnr
-from shared_data import shared_data
-from synthesize_runner import run_synthesize
+
+pytestmark = pytest.mark.slow     # `make test-fast` leaves these out
 
 CONES = YuvFormat(448, 368)
 HALL = YuvFormat(1920, 1088)
