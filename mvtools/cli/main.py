@@ -2,30 +2,48 @@
 
 from __future__ import annotations
 
+import importlib
+
 import click
 
 from mvtools import __version__
-from mvtools.cli import (bitrate, calibrate, colorcorrect, convert, encode, estimate_depth,
-                         evaluate, inspect, pack, rectify, report, scene, synthesize)
 
-PROGRAMS: dict[str, click.Command] = {
-    "evaluate": evaluate.command,
-    "convert": convert.command,
-    "inspect": inspect.command,
-    "scene": scene.command,
-    "synthesize": synthesize.command,
-    "estimate-depth": estimate_depth.command,
-    "calibrate": calibrate.command,
-    "rectify": rectify.command,
-    "colorcorrect": colorcorrect.command,
-    "pack": pack.command,
-    "encode": encode.command,
-    "bitrate": bitrate.command,
-    "report": report.command,
+#: Each program's module under mvtools.cli. A program's module is imported when the
+#: program runs (or its help is asked for): a call of one program does not pay for the
+#: imports of the others (OpenCV, SciPy, the numba kernels), about a second a call.
+PROGRAMS: dict[str, str] = {
+    "evaluate": "evaluate",
+    "convert": "convert",
+    "inspect": "inspect",
+    "scene": "scene",
+    "synthesize": "synthesize",
+    "estimate-depth": "estimate_depth",
+    "calibrate": "calibrate",
+    "rectify": "rectify",
+    "colorcorrect": "colorcorrect",
+    "pack": "pack",
+    "encode": "encode",
+    "bitrate": "bitrate",
+    "report": "report",
 }
 
 
-@click.group(commands=PROGRAMS, context_settings={"help_option_names": ["-h", "--help"]})
+def program_command(name: str) -> click.Command:
+    """The click command of program ``name`` (a key of :data:`PROGRAMS`)."""
+    return importlib.import_module(f"mvtools.cli.{PROGRAMS[name]}").command
+
+
+class _ProgramGroup(click.Group):
+    """The umbrella command, which imports a program's module only when it is called."""
+
+    def list_commands(self, ctx):
+        return list(PROGRAMS)
+
+    def get_command(self, ctx, name):
+        return program_command(name) if name in PROGRAMS else None
+
+
+@click.group(cls=_ProgramGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="mvtools")
 def cli():
     """Multiview video tools: calibration, rectification, colour correction, depth
@@ -38,8 +56,8 @@ def cli():
 
 def _standalone(name: str):
     def main():
-        PROGRAMS[name].main(prog_name=f"mvtools-{name}",
-                            help_option_names=["-h", "--help"])
+        program_command(name).main(prog_name=f"mvtools-{name}",
+                                   help_option_names=["-h", "--help"])
 
     main.__name__ = f"{name.replace('-', '_')}_cli"
     return main
