@@ -28,21 +28,15 @@ HALL = DATA / "mpeg" / "poznan_hall2"
 KENDO = DATA / "mpeg" / "kendo"
 KENDO_CONFIG = KENDO / "config" / "VSRS" / "vsrs_kendo_ori.cfg"
 
-# Y-PSNR of the reference programs, from the README (general Precision 1: the ipelfix build).
-VSRS_CONES = {
-    ("general", 1, 0): 29.80, ("general", 1, 1): 30.13,
-    ("general", 2, 0): 29.995, ("general", 2, 1): 30.194,
-    ("general", 4, 0): 30.068, ("general", 4, 1): 30.288,
-    ("1d", 1, 0): 29.139, ("1d", 2, 0): 30.853, ("1d", 4, 0): 30.028,
-}
-RVS_CONES = 30.281
-VSRS_HALL_FROM_CAMERA_5 = {"general": 31.58, "1d": 32.67}
-MODES = {"general": 0, "1d": 1}
-# Camera 5 as the right view too, with its own depth range.
-CAMERA_5_AS_RIGHT = ("RightCameraName=param_cam5",
-                     r"RightViewImageName=..\data\hall\hall_I_cam05.yuv",
-                     r"RightDepthMapName=..\data\hall\hall_D_cam05.yuv",
-                     "RightNearestDepthValue=-23.394160", "RightFarthestDepthValue=-172.531931")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from reference_cases import (
+    CAMERA_5_AS_RIGHT,
+    MODES,
+    RVS_CONES,
+    VSRS_CONES,
+    VSRS_HALL_FROM_CAMERA_5,
+)
+
 # Kendo: the settings VSRS was run with, its output and its whole-process CPU seconds
 # for one frame (README).
 KENDO_RUNS = (("general", 4, "vsrs42_cam02_general_P4", 1.06),

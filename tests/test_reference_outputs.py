@@ -19,6 +19,13 @@ Y-PSNR over the whole luma plane against the real view.
 from __future__ import annotations
 
 import pytest
+from reference_cases import (
+    CAMERA_5_AS_RIGHT,
+    MODES,
+    RVS_CONES,
+    VSRS_CONES,
+    VSRS_HALL_FROM_CAMERA_5,
+)
 from shared_data import shared_data
 from synthesize_runner import run_synthesize
 
@@ -30,33 +37,10 @@ pytestmark = pytest.mark.slow     # `make test-fast` leaves these out
 CONES = YuvFormat(448, 368)
 HALL = YuvFormat(1920, 1088)
 
-#: VSRS 4.2's Y-PSNR of Cones im4 (the reference outputs' README) by mode,
-#: Precision and BoundaryNoiseRemoval; Precision 1 in general mode is the ipelfix
-#: build (VSRS 4.2 as released fails there).
-VSRS_CONES = {
-    ("general", 1, 0): 29.80, ("general", 1, 1): 30.13,
-    ("general", 2, 0): 29.995, ("general", 2, 1): 30.194,
-    ("general", 4, 0): 30.068, ("general", 4, 1): 30.288,
-    ("1d", 1, 0): 29.139, ("1d", 2, 0): 30.853, ("1d", 4, 0): 30.028,
-}
-#: RVS 4.0's Y-PSNR of Cones im4 with its default settings (the same README).
-RVS_CONES = 30.281
 #: How far above VSRS at the same setting mvtools must be (dB).
 MARGIN_OVER_VSRS = 0.3
-
-#: VSRS 4.2's Y-PSNR of Poznan Hall 2 camera 7 from camera 5 alone (the same README).
-VSRS_HALL_FROM_CAMERA_5 = {"general": 31.58, "1d": 32.67}
 #: Camera 7 from cameras 5 and 7: the real view is one of the references.
 HALL_FROM_BOTH_LEAST = 40.0
-
-MODES = {"general": 0, "1d": 1}
-
-# Camera 5 as the right view too, with its own depth range (the shipped
-# configuration's right view is camera 7).
-CAMERA_5_AS_RIGHT = ("RightCameraName=param_cam5",
-                     r"RightViewImageName=..\data\hall\hall_I_cam05.yuv",
-                     r"RightDepthMapName=..\data\hall\hall_D_cam05.yuv",
-                     "RightNearestDepthValue=-23.394160", "RightFarthestDepthValue=-172.531931")
 
 
 def synthesized_luma(config, *settings, data_dir, fmt, folder):
