@@ -591,16 +591,13 @@ SHIPPED = [
     (C + "ViewSynthesis_pantomime.cfg", "vsrs_camera_parameters", "LeftViewImageName",
      "ptm_38.yuv"),
 ] + [
-    (f"kendo/config/VSRS/vsrs_kendo_{variant}.cfg", "kendo", "LeftViewImageName", missing)
+    (f"{folder}/config/VSRS/vsrs_{name}_{variant}.cfg", folder, "LeftViewImageName", missing)
+    for folder, name, views in (("kendo", "kendo", ()), ("poznan_hall2", "poznanhall2",
+                                                        (1, 2, 3, 4, 6, 8)))
     for variant, missing in (("matlab", "tmp_I_l.yuv"), ("matlab2", "tmp_I_recon_l.yuv"),
                              ("matlab_WMGeneration", "tmp_I_l.yuv"), ("ori", None))
-] + [
-    (f"poznan_hall2/config/VSRS/vsrs_poznanhall2_{variant}.cfg", "poznan_hall2",
-     "LeftViewImageName", missing)
-    for variant, missing in (("matlab", "tmp_I_l.yuv"), ("matlab2", "tmp_I_recon_l.yuv"),
-                             ("matlab_WMGeneration", "tmp_I_l.yuv"), ("ori", None))
-    + tuple((f"v{view}", "tmp_I_recon_l.yuv") for view in (1, 2, 3, 4, 6, 8))
-    + tuple((f"v{view}_ori", None) for view in (1, 2, 3, 4, 6, 8))
+    + tuple((f"v{view}", "tmp_I_recon_l.yuv") for view in views)
+    + tuple((f"v{view}_ori", None) for view in views)
 ]
 
 
