@@ -2,15 +2,20 @@
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import logging
 import os
+import re
+import signal
 import sys
+import threading
 import time
 
 import click
 
 from mvtools.errors import MvtoolsError
+from mvtools.io.guard import file_guard
 from mvtools.params import Kind, param_specs
 
 LOG = logging.getLogger("mvtools")
@@ -46,10 +51,20 @@ class _ProgramFormatter(logging.Formatter):
 
 
 def program(function):
-    """Decorate a click callback: add -v/-q and turn mvtools errors into one-line messages.
+    """Decorate a click callback: add -v/-q, and make it the one edge where failures
+    become one-line messages and exit codes.
 
-    Usage and config errors exit with 2, data errors with 1, as ``MvtoolsError.exit_code``
-    says; operating-system errors on files (permission, disk full) exit with 1.
+    - :class:`~mvtools.errors.MvtoolsError`: its ``exit_code`` (2 for usage and config
+      errors, 1 for data errors); operating-system errors on files (permission, disk
+      full): 1.
+    - ``ValueError``: the algorithm layer's word for an argument it cannot use (a depth
+      range, a threshold, a baseline the options gave it), so a usage error: 2.
+    - SIGINT: 130; SIGTERM (what make, timeout, CI runners and schedulers send): 143. Both
+      unwind the run, so the temporary files of unfinished outputs are removed.
+
+    ``-v`` adds the traceback of a failure to the log, as debug detail. The run is one
+    :func:`mvtools.io.guard.file_guard` scope: no output may name an input or another
+    output.
     """
 
     @click.option("-v", "--verbose", count=True, help="More messages on stderr (repeatable).")
@@ -60,18 +75,64 @@ def program(function):
         _set_log_level(ctx, verbose, quiet)
         start = time.perf_counter()
         try:
-            result = function(**kwargs)
+            with _terminate_on_sigterm(), file_guard():
+                result = function(**kwargs)
         except MvtoolsError as error:
-            LOG.error("%s", error)
-            ctx.exit(error.exit_code)
+            _fail(ctx, error, str(error), error.exit_code)
         except OSError as error:
             where = f"{error.filename}: " if error.filename else ""
-            LOG.error("%s%s", where, error.strerror or error)
-            ctx.exit(1)
+            _fail(ctx, error, f"{where}{error.strerror or error}", 1)
+        except ValueError as error:
+            _fail(ctx, error, str(error), 2)
+        except KeyboardInterrupt as error:
+            _fail(ctx, error, "interrupted: unfinished outputs were removed", 130)
+        except Terminated as error:
+            _fail(ctx, error, "terminated: unfinished outputs were removed", 143)
         _log_time(ctx, time.perf_counter() - start)
         return result
 
     return wrapper
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived. A BaseException, as KeyboardInterrupt is, so that no ``except
+    Exception`` stops it before the outputs' clean-up and the program's edge."""
+
+
+@contextlib.contextmanager
+def _terminate_on_sigterm():
+    """Within the block, SIGTERM raises :class:`Terminated` in the main thread."""
+    if threading.current_thread() is not threading.main_thread():
+        yield       # signals reach the main thread only; its caller handles them
+        return
+
+    def terminate(signum, frame):
+        raise Terminated()
+
+    previous = signal.signal(signal.SIGTERM, terminate)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+#: Longer runs of non-blank characters are cut in messages (a 10 MB token in a bad file);
+#: file paths stay whole.
+LONGEST_SHOWN = 256
+
+
+def _fail(ctx: click.Context, error: BaseException, message: str, exit_code: int) -> None:
+    LOG.debug("the failure in full:", exc_info=error)
+    LOG.error("%s", _cut_long_tokens(message))
+    ctx.exit(exit_code)
+
+
+def _cut_long_tokens(message: str) -> str:
+    def cut(match: re.Match) -> str:
+        token = match.group(0)
+        return f"{token[:60]}... ({len(token)} characters)"
+
+    return re.sub(rf"\S{{{LONGEST_SHOWN + 1},}}", cut, message)
 
 
 def _log_time(ctx: click.Context, seconds: float) -> None:

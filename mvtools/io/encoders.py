@@ -13,9 +13,11 @@ import subprocess
 from pathlib import Path
 
 from mvtools.errors import DataError, UsageError
+from mvtools.io.atomic import output_folder_exists
+from mvtools.io.guard import claim_output, note_input
 from mvtools.io.yuv import YuvFormat
 
-__all__ = ["ENCODERS", "encode_hevc", "decode_hevc", "program_path"]
+__all__ = ["ENCODERS", "decode_hevc", "encode_hevc", "program_path"]
 
 ENCODERS = ("x265", "ffmpeg")
 _INSTALL = {"x265": "apt-get install x265", "ffmpeg": "apt-get install ffmpeg"}
@@ -32,6 +34,8 @@ def program_path(name: str) -> str:
 
 
 def _run(command: list[str], what: str, target: Path) -> None:
+    output_folder_exists(target.parent)
+    claim_output(target, f"{what} output")
     temporary = target.with_name(f".{target.name}.part{target.suffix}")
     command = [part if part != "{output}" else str(temporary) for part in command]
     try:
@@ -57,6 +61,7 @@ def encode_hevc(source: str | os.PathLike, fmt: YuvFormat, bitstream: str | os.P
     if encoder not in ENCODERS:
         raise UsageError(f"encoder must be one of {', '.join(ENCODERS)}, got {encoder!r}")
     bitstream = Path(bitstream)
+    note_input(source)
     if encoder == "x265":
         command = [program_path("x265"), "--input", str(source),
                    "--input-res", f"{fmt.width}x{fmt.height}",
@@ -76,6 +81,7 @@ def encode_hevc(source: str | os.PathLike, fmt: YuvFormat, bitstream: str | os.P
 
 def decode_hevc(bitstream: str | os.PathLike, output: str | os.PathLike, fmt: YuvFormat) -> None:
     """Decode an HEVC bitstream to a raw YUV file of ``fmt`` with ffmpeg."""
+    note_input(bitstream)
     command = [program_path("ffmpeg"), "-nostdin", "-y", "-loglevel", "error",
                "-i", str(bitstream), "-f", "rawvideo", "-pix_fmt", fmt.pix_fmt, "{output}"]
     _run(command, "ffmpeg decoding", Path(output))

@@ -8,10 +8,12 @@ import os
 from pathlib import Path
 
 from mvtools.errors import ConfigError, UsageError
+from mvtools.io.guard import note_input
 
 
 def read_bytes(path: str | os.PathLike, what: str = "file") -> bytes:
     """The bytes of ``path``; a missing or unreadable file is a UsageError naming it."""
+    note_input(path)
     try:
         return Path(path).read_bytes()
     except FileNotFoundError:

@@ -33,6 +33,7 @@ import numpy as np
 
 from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import atomic_output
+from mvtools.io.guard import note_input
 
 __all__ = [
     "CHROMA_FORMATS", "BIT_DEPTHS", "SUPPORTED_PIX_FMTS", "YuvFormat", "format_from_name",
@@ -438,6 +439,7 @@ class RawVideoReader(VideoReader):
         file_bytes = _file_size(path)
         if file_bytes % fmt.frame_bytes:
             raise DataError(_size_mismatch_message(file_bytes, fmt), path=path)
+        note_input(path)
         super().__init__(path, fmt, open(path, "rb"), file_bytes // fmt.frame_bytes)
 
     def _frame_offset(self, index: int) -> int:
@@ -485,6 +487,7 @@ class Y4mReader(VideoReader):
     def __init__(self, path: str | os.PathLike):
         path = Path(path)
         file_bytes = _file_size(path)
+        note_input(path)
         handle = open(path, "rb")
         try:
             fmt, params, self._data_start = self._parse_header(handle, path)
