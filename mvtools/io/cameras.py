@@ -33,6 +33,9 @@ that every file seen in the field loads and a damaged one is reported:
   first), and a warning names both lines.
 - A rotation that is not orthonormal (``max |R R^T - I| > 1e-3``) or that is a
   reflection is loaded with a warning naming the camera.
+- A singular ``K`` (all zeros, a focal length of 0) or a number that is not finite
+  is a :class:`~mvtools.errors.ConfigError` naming the camera, in this format and in
+  the others (:func:`store_camera`).
 """
 
 from __future__ import annotations
@@ -113,13 +116,23 @@ def _blocks(tokens: list[_Token], path: Path) -> Iterable[tuple[_Token, list[flo
 
 def store_camera(cameras: dict[str, Camera], camera: Camera, lines: dict[str, int], *,
                  path: str | os.PathLike, line: int | None = None) -> None:
-    """Add ``camera`` to ``cameras``; a name seen before is replaced with a warning.
+    """Check ``camera``, read from a camera file, and add it to ``cameras``; a name seen
+    before is replaced with a warning.
 
-    ``lines`` remembers where each name was defined (line number, or ``None`` when
-    the format has none) so that the warning can point at both definitions.
+    Every reader of camera files (MPEG text, MPEG-I JSON, 3D-HTM) stores its cameras
+    here, so that one rule judges a camera whatever its format and whatever the mode
+    that uses it. ``lines`` remembers where each name was defined (line number, or
+    ``None`` when the format has none) so that the warning can point at both
+    definitions.
+
+    Raises
+    ------
+    ConfigError
+        A camera that cannot project: non-finite numbers, or a singular ``K``.
     """
+    where = f"{path}:{line}" if line is not None else f"{path}"
+    _check_camera(camera, path, line, where)
     if camera.name in cameras:
-        where = f"{path}:{line}" if line is not None else f"{path}"
         first = lines[camera.name]
         first_place = f" (first at line {first})" if first is not None else ""
         logger.warning("%s: camera %r is defined again%s; the last definition is used, "
@@ -128,14 +141,29 @@ def store_camera(cameras: dict[str, Camera], camera: Camera, lines: dict[str, in
     lines[camera.name] = line
 
 
-def _check_rotation(camera: Camera, path: Path, line: int) -> None:
+def _check_camera(camera: Camera, path: str | os.PathLike, line: int | None,
+                  where: str) -> None:
+    """Refuse a camera that no program can use; warn about a rotation that is not one.
+
+    A singular ``K`` (all zeros, as a file exported without intrinsics holds, or a
+    focal length of 0) gives no pixel a ray: the general mode cannot invert it and the
+    1D modes would divide by its focal length, so it is refused here for every mode.
+    """
+    numbers = np.concatenate([camera.K.ravel(), camera.R.ravel(), camera.t, camera.distortion])
+    if not np.all(np.isfinite(numbers)):
+        raise ConfigError("the camera has non-finite parameters (inf or nan)", path=path,
+                          line=line, key=camera.name)
+    if np.linalg.matrix_rank(camera.K) < 3:
+        rows = ", ".join(" ".join(f"{value:g}" for value in row) for row in camera.K)
+        raise ConfigError(f"the intrinsic matrix K ({rows}) is singular: a camera needs "
+                          "focal lengths fx, fy other than 0 and the last row 0 0 1",
+                          path=path, line=line, key=camera.name)
     error = float(np.abs(camera.R @ camera.R.T - np.eye(3)).max())
     if error > ORTHONORMAL_TOLERANCE:
-        logger.warning("%s:%d: %s: rotation is not orthonormal (max |R R^T - I| = %.3g)",
-                       path, line, camera.name, error)
+        logger.warning("%s: %s: rotation is not orthonormal (max |R R^T - I| = %.3g)",
+                       where, camera.name, error)
     elif np.linalg.det(camera.R) < 0:
-        logger.warning("%s:%d: %s: rotation is a reflection (det R = -1)",
-                       path, line, camera.name)
+        logger.warning("%s: %s: rotation is a reflection (det R = -1)", where, camera.name)
 
 
 def read_cameras(path: str | os.PathLike, *, transposed_rotation: bool = False
@@ -160,7 +188,8 @@ def read_cameras(path: str | os.PathLike, *, transposed_rotation: bool = False
     UsageError
         The file cannot be read.
     ConfigError
-        A camera block with fewer than 23 numbers, or no camera at all.
+        A camera block with fewer than 23 numbers, a camera that cannot project
+        (:func:`store_camera`), or no camera at all.
 
     Notes
     -----
@@ -176,7 +205,6 @@ def read_cameras(path: str | os.PathLike, *, transposed_rotation: bool = False
         camera = Camera(name=name.text, K=numbers[:9],
                         R=rotation.T if transposed_rotation else rotation,
                         t=rotation_translation[:, 3], distortion=numbers[9:11])
-        _check_rotation(camera, path, name.line)
         store_camera(cameras, camera, lines, path=path, line=name.line)
     if not cameras:
         raise ConfigError("no camera found (a camera is a name followed by "

@@ -271,7 +271,8 @@ def read_json_sequence(path: str | os.PathLike) -> JsonSequence:
         The file cannot be read.
     ConfigError
         Invalid JSON, no ``cameras`` array, a missing or malformed field, a depth range
-        that is not ``0 < near < far``, or a projection other than ``Perspective``.
+        that is not ``0 < near < far``, a projection other than ``Perspective``, or a
+        camera that cannot project (:func:`mvtools.io.cameras.store_camera`).
     """
     path = Path(path)
     document = _read_document(path)
