@@ -3,6 +3,7 @@ truth, or a depth video against a ground-truth depth video."""
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 from collections.abc import Sequence
@@ -17,13 +18,15 @@ from mvtools.cli.progress import Progress
 from mvtools.datasets import nonoccluded_pixels
 from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.geometry.depth import DepthCoding, check_depth_range, z_to_disparity
-from mvtools.io.atomic import atomic_output
+from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.files import read_json
+from mvtools.io.guard import check_output, note_input
 from mvtools.io.images import read_image
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.middlebury import middlebury_set_for, read_ground_truth
 from mvtools.io.yuv import VideoReader
-from mvtools.metrics import VIDEO_METRICS, ERROR_BIN_EDGES, error_histogram, frame_scores, score_disparity
+from mvtools.metrics import (VIDEO_METRICS, ERROR_BIN_EDGES, check_thresholds, error_histogram,
+                             frame_scores, score_disparity)
 
 @click.command(name="evaluate", cls=ProgramCommand)
 @click.argument("reference", type=click.Path(dir_okay=False))
@@ -78,26 +81,42 @@ def command(reference, test, metrics, size, pix_fmt, start_frame, frame_count, d
     every frame of two depth videos, their depths turned into disparities towards
     --neighbour.
     """
-    thresholds = thresholds or (1.0, 2.0)
+    try:
+        thresholds = check_thresholds(thresholds or (1.0, 2.0))
+    except ValueError as error:
+        raise UsageError(str(error), key="--threshold") from None
     if disparity and depth_videos:
         raise UsageError("--disparity and --depth exclude each other")
     if disparity:
-        result = _evaluate_disparity(Path(reference), Path(test), gt_scale, disparity_scale,
-                                     nonocc_mask, other_gt, thresholds)
-        _report(result, _disparity_table, as_json, json_file)
-        return
-    if depth_videos:
+        table = _disparity_table
+        scoring = functools.partial(_evaluate_disparity, Path(reference), Path(test), gt_scale,
+                                    disparity_scale, nonocc_mask, other_gt, thresholds)
+    elif depth_videos:
+        table = _depth_table
         focal, baseline = _focal_and_baseline(cameras, camera, neighbour)
-        result = _evaluate_depth(
-            Path(reference), Path(test), _depth_range(reference, reference_range, "--reference-range"),
-            _depth_range(test, test_range, "--test-range"), focal, baseline, size, pix_fmt,
-            start_frame, frame_count, thresholds)
-        result["neighbour"] = neighbour
-        _report(result, _depth_table, as_json, json_file)
-        return
-    result = _evaluate_video(reference, test, size, pix_fmt, start_frame, frame_count,
-                             metrics or VIDEO_METRICS)
-    _report(result, _video_table, as_json, json_file)
+        scoring = functools.partial(
+            _evaluate_depth, Path(reference), Path(test),
+            _depth_range(reference, reference_range, "--reference-range"),
+            _depth_range(test, test_range, "--test-range"), neighbour, focal, baseline, size,
+            pix_fmt, start_frame, frame_count, thresholds)
+    else:
+        table = _video_table
+        scoring = functools.partial(_evaluate_video, reference, test, size, pix_fmt,
+                                    start_frame, frame_count, metrics or VIDEO_METRICS)
+    if json_file is not None:
+        _check_json_file(json_file, (reference, test, nonocc_mask, other_gt))
+    _report(scoring(), table, as_json, json_file)
+
+
+def _check_json_file(json_file, inputs) -> None:
+    """Refuse ``--json-file`` before the scoring, which may take long, rather than when
+    it is written after it: its folder must exist and it may not name an input (the
+    inputs named on the command line are noted now, before they are read)."""
+    for path in inputs:
+        if path is not None:
+            note_input(path)
+    output_folder_exists(Path(json_file).parent)
+    check_output(json_file)
 
 
 def _report(result: dict, table, as_json: bool, json_file) -> None:
@@ -282,8 +301,8 @@ def _depth_range(video: str, given, option: str) -> tuple[float, float]:
     return float(document["NearestDepthValue"]), math.inf if far is None else float(far)
 
 
-def _evaluate_depth(reference: Path, test: Path, reference_range, test_range, focal: float,
-                    baseline: float, size, pix_fmt, start_frame, frame_count,
+def _evaluate_depth(reference: Path, test: Path, reference_range, test_range, neighbour: str,
+                    focal: float, baseline: float, size, pix_fmt, start_frame, frame_count,
                     thresholds) -> dict:
     ranges = {"reference": reference_range, "test": test_range}
     with open_input_video(reference, size, pix_fmt) as ref_video, \
@@ -302,6 +321,8 @@ def _evaluate_depth(reference: Path, test: Path, reference_range, test_range, fo
                 for name, video in (("reference", ref_video), ("test", test_video)))
             try:
                 score = score_disparity(estimate, truth, thresholds=thresholds)
+            # the thresholds were checked: what is left is the frame's fault (no pixel of
+            # known ground truth), a data error
             except ValueError as error:
                 raise DataError(f"frame {index}: {error}", path=reference) from None
             rows.append({"frame": index,
@@ -312,7 +333,7 @@ def _evaluate_depth(reference: Path, test: Path, reference_range, test_range, fo
     columns = [key for key in rows[0] if key != "frame"]
     return {"reference": str(reference), "test": str(test),
             "reference_range": list(reference_range), "test_range": list(test_range),
-            "focal": focal, "baseline": baseline, "frames": rows,
+            "neighbour": neighbour, "focal": focal, "baseline": baseline, "frames": rows,
             "mean": {key: float(np.mean([row[key] for row in rows])) for key in columns},
             "histogram": _histogram(histogram)}
 

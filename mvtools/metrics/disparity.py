@@ -57,6 +57,28 @@ def known_ground_truth(ground_truth: np.ndarray) -> np.ndarray:
     return np.isfinite(ground_truth) & (ground_truth != 0)
 
 
+def check_thresholds(thresholds: Sequence[float]) -> tuple[float, ...]:
+    """The error thresholds of :func:`score_disparity` as floats.
+
+    Raises
+    ------
+    ValueError
+        Unless ``thresholds`` holds at least one value and every value is >= 0 (``inf``
+        counts only the pixels without an estimate; NaN would count none).
+
+    Examples
+    --------
+    >>> check_thresholds([1, 2])
+    (1.0, 2.0)
+    """
+    thresholds = tuple(float(t) for t in thresholds)
+    # written so that NaN fails: no comparison with it is true
+    if not thresholds or not all(t >= 0 for t in thresholds):
+        raise ValueError(f"thresholds must be a non-empty list of values >= 0, got "
+                         f"{', '.join(f'{t:g}' for t in thresholds) or 'none'}")
+    return thresholds
+
+
 def score_disparity(disparity: np.ndarray, ground_truth: np.ndarray, *,
                     known: np.ndarray | None = None,
                     nonoccluded: np.ndarray | None = None,
@@ -82,7 +104,7 @@ def score_disparity(disparity: np.ndarray, ground_truth: np.ndarray, *,
     nonoccluded : ndarray of bool, shape (H, W), optional
         Non-occluded pixels; "nonocc" scores use ``known & nonoccluded``.
     thresholds : sequence of float
-        Error thresholds in pixels.
+        Error thresholds in pixels (:func:`check_thresholds`).
 
     Returns
     -------
@@ -95,9 +117,7 @@ def score_disparity(disparity: np.ndarray, ground_truth: np.ndarray, *,
     if disparity.shape != ground_truth.shape:
         raise ValueError(f"disparity shape {disparity.shape} differs from ground-truth "
                          f"shape {ground_truth.shape}")
-    thresholds = tuple(float(t) for t in thresholds)
-    if not thresholds or min(thresholds) < 0:
-        raise ValueError(f"thresholds must be a non-empty list of values >= 0, got {thresholds}")
+    thresholds = check_thresholds(thresholds)
     known = _mask(known, disparity.shape, "known") if known is not None \
         else known_ground_truth(ground_truth)
     known = known & np.isfinite(ground_truth)
