@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterable, Mapping
 
+from mvtools.cli.inputs import frame_range
 from mvtools.errors import ConfigError, DataError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import get_camera
@@ -39,6 +40,9 @@ class LoadedConfig:
     all_cameras : dict of str to Camera
         Every camera of the camera parameter file, by camera name (empty when no
         camera file was read).
+    options : frozenset of str
+        Field names whose value a command-line option gave (``--start-frame`` ...),
+        rather than the file or a ``Key=Value`` item.
     """
 
     params: Any
@@ -46,6 +50,7 @@ class LoadedConfig:
     outputs: dict[str, Path] = field(default_factory=dict)
     cameras: dict[str, Camera] = field(default_factory=dict)
     all_cameras: dict[str, Camera] = field(default_factory=dict)
+    options: frozenset[str] = frozenset()
 
     @property
     def video_fields(self) -> list[str]:
@@ -59,6 +64,15 @@ class LoadedConfig:
 
     def open_video(self, name: str) -> VideoReader:
         return open_video(self.inputs[name], self.video_format(name))
+
+    def frame_range(self, readers: list[VideoReader]) -> range:
+        """The frames of StartFrame and TotalNumberOfFrames that every reader has
+        (:func:`mvtools.cli.inputs.frame_range`); a start past the end names what gave
+        it: ``--start-frame``, or the key with its file and line."""
+        params = self.params
+        given = None if "start_frame" in self.options else param_entry(params, "start_frame")
+        return frame_range(readers, params.start_frame, params.total_number_of_frames,
+                           start_given=given)
 
     def command_line_camera(self, name: str, label: str) -> Camera:
         """A camera of the camera file named on the command line by the option ``label``."""
@@ -112,7 +126,8 @@ def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Itera
     entries.update(parse_overrides(overrides))
     entries.update(override_entries(cls, options or {}))
     params = load_params(cls, entries)
-    loaded = LoadedConfig(params)
+    loaded = LoadedConfig(params, options=frozenset(
+        name for name, value in (options or {}).items() if value is not None))
     data_dirs = tuple(data_dirs)
     for spec in param_specs(cls):
         if not getattr(params, spec.name):

@@ -30,7 +30,6 @@ import click
 import numpy as np
 
 from mvtools.cli.configs import LoadedConfig, command_line_input, load_config, video_format_for
-from mvtools.cli.inputs import frame_range
 from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument,
                                   param_options, program, transposed_rotation_option)
 from mvtools.cli.progress import Progress
@@ -284,7 +283,7 @@ def _ders_mode(config: str, overrides, data_dirs, *, output: str | None,
             if reader.format.chroma == "400":
                 raise DataError("a view needs colour planes, this video is grey (4:0:0)",
                                 path=reader.path)
-        frames = frame_range(readers, params.start_frame, params.total_number_of_frames)
+        frames = loaded.frame_range(readers)
         LOG.info("estimating the depth of %s from %s (%s, %d planes), %d frame%s from frame %d",
                  center.name, " and ".join(n.camera.name for n in neighbours), params.method,
                  estimator.inverse_depths.size, len(frames), "s" if len(frames) != 1 else "",

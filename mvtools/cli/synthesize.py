@@ -20,7 +20,6 @@ import click
 import numpy as np
 
 from mvtools.cli.configs import LoadedConfig, command_line_input, load_config, video_format_for
-from mvtools.cli.inputs import frame_range
 from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument,
                                   param_options, program, transposed_rotation_option)
 from mvtools.cli.progress import Progress
@@ -119,7 +118,7 @@ def command(config, overrides, data_dirs, extra_views, hole_filling, output_dept
         textures = [stack.enter_context(_open(ref.texture, size, ref.texture_key)) for ref in references]
         depths = [stack.enter_context(_open(ref.depth, size, ref.depth_key)) for ref in references]
         texture_format = _texture_format(textures)
-        frames = frame_range(textures + depths, params.start_frame, params.total_number_of_frames)
+        frames = loaded.frame_range(textures + depths)
         codings = [_depth_coding(ref.depth_range, reader.format.bits, ref.depth_key,
                                  depth_type=params.depth_type)
                    for ref, reader in zip(references, depths)]
