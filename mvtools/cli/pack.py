@@ -13,11 +13,16 @@ from mvtools.cli.options import (ProgramCommand, frame_range_options, parse_size
                                  video_format_options)
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
-from mvtools.io.sidecar import PackedVideo, read_sidecar, sidecar_path, write_sidecar
+from mvtools.io.guard import check_output
+from mvtools.io.sidecar import (PackedVideo, read_sidecar, repeated_file, sidecar_path,
+                                 write_sidecar)
 from mvtools.io.yuv import YuvFormat, open_video, open_writer
 from mvtools.pack import LAYOUTS, pack_frame, plan_layout, unpack_frame
 
 LOG = logging.getLogger("mvtools")
+
+# The option that gives a packed stream of each kind.
+_OPTIONS = {"texture": "--view", "depth": "--depth"}
 
 
 @click.command(name="pack", cls=ProgramCommand)
@@ -77,28 +82,33 @@ def _pack(views, depths, layout_kind, half, columns, block, frame_size, output, 
     keys = [(name, kind) for name, kind, _ in entries]
     if len(set(keys)) != len(keys):
         raise UsageError("a view or depth map is given twice")
-    for _, _, path in entries:
-        if Path(path).resolve() == output.resolve():
-            raise UsageError("the output would overwrite an input", path=path)
+    paths = {(name, kind): path for name, kind, path in entries}
+    files = {key: Path(path).name for key, path in paths.items()}
+    repeated = repeated_file(files)
+    if repeated is not None:
+        first, second = (f"{_OPTIONS[kind]} {name}" for name, kind in repeated)
+        raise UsageError(f"{second}: the same file name as {first}: unpacking restores the "
+                         "views under their file names in one folder; rename one",
+                         path=paths[repeated[1]])
     with contextlib.ExitStack() as stack:
-        videos = {(name, kind): stack.enter_context(open_input_video(path, size, pix_fmt))
-                  for name, kind, path in entries}
+        videos = {key: stack.enter_context(open_input_video(path, size, pix_fmt))
+                  for key, path in paths.items()}
         fmt = _packed_format(videos)
-        try:
-            layout = plan_layout([(name, videos[(name, "texture")].format.size)
-                                  for name, _ in views],
-                                 layout=layout_kind, half=half, columns=columns, block=block,
-                                 frame_size=frame_size,
-                                 depths=[(name, videos[(name, "depth")].format.size)
-                                         for name, _ in depths])
-        except ValueError as error:
-            raise UsageError(str(error)) from None
+        layout = plan_layout([(name, videos[(name, "texture")].format.size)
+                              for name, _ in views],
+                             layout=layout_kind, half=half, columns=columns, block=block,
+                             frame_size=frame_size,
+                             depths=[(name, videos[(name, "depth")].format.size)
+                                     for name, _ in depths])
         packed_format = YuvFormat(layout.width, layout.height, chroma=fmt.chroma, bits=fmt.bits)
         frames = frame_range(list(videos.values()), start_frame, frame_count)
-        with write_packed(videos, layout, packed_format, output, frames):
+        with open_writer(output, packed_format) as writer:
+            # the video is claimed now; the sidecar, written last, is checked before the
+            # frames are packed, against the inputs and the video alike
+            check_output(sidecar, "sidecar (--sidecar, by default -o with .json)")
+            pack_frames(writer, videos, layout, frames)
             write_sidecar(sidecar, PackedVideo(
-                layout=layout, pix_fmt=packed_format.pix_fmt, frames=len(frames),
-                files={(name, kind): Path(path).name for name, kind, path in entries},
+                layout=layout, pix_fmt=packed_format.pix_fmt, frames=len(frames), files=files,
                 pix_fmts={key: video.format.pix_fmt for key, video in videos.items()}))
     LOG.info("%d views%s packed into %dx%d %s frames (%s)", len(views),
              f" and {len(depths)} depth maps" if depths else "", layout.width, layout.height,
@@ -156,15 +166,19 @@ def _unpack(packed_path: Path, sidecar: Path | None, out: Path, size, start_fram
 @contextlib.contextmanager
 def write_packed(videos, layout, packed_format: YuvFormat, output: Path, frames):
     """Pack ``frames`` of the ``videos`` (by (name, kind)) into ``output``; the file
-    appears when the block that follows (e.g. writing the sidecar) ends without error."""
-    progress = Progress(len(frames), "frames packed")
+    appears when the block that follows ends without error."""
     with open_writer(output, packed_format) as writer:
-        for index in frames:
-            writer.write(pack_frame(layout, {key: video.read(index)
-                                             for key, video in videos.items()},
-                                    chroma=packed_format.chroma, bits=packed_format.bits))
-            progress.advance()
+        pack_frames(writer, videos, layout, frames)
         yield
+
+
+def pack_frames(writer, videos, layout, frames) -> None:
+    """Pack ``frames`` of the ``videos`` (by (name, kind)) into the open ``writer``."""
+    progress = Progress(len(frames), "frames packed")
+    for index in frames:
+        writer.write(pack_frame(layout, {key: video.read(index) for key, video in videos.items()},
+                                chroma=writer.format.chroma, bits=writer.format.bits))
+        progress.advance()
 
 
 def write_unpacked(video, layout, targets, frames) -> None:

@@ -12,15 +12,17 @@ from __future__ import annotations
 
 import json
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass
-from pathlib import Path
+from pathlib import Path, PurePosixPath, PureWindowsPath
 
 from mvtools.errors import ConfigError
 from mvtools.io.atomic import atomic_output
 from mvtools.io.files import read_json
 from mvtools.pack.layout import KINDS, LAYOUTS, Layout, Placement
 
-__all__ = ["PackedVideo", "read_sidecar", "write_sidecar", "sidecar_path"]
+__all__ = ["PackedVideo", "read_sidecar", "repeated_file", "sidecar_path",
+           "write_sidecar"]
 
 FORMAT_NAME = "mvtools-pack"
 VERSION = 1
@@ -75,14 +77,54 @@ def _field(entry: dict, key: str, kind, path: Path, where: str):
     return value
 
 
+def _is_bare_file_name(name: str) -> bool:
+    """Whether ``name`` is a file name alone, as a sidecar records a view's file: no
+    folder part (on POSIX or Windows), not ``.`` or ``..``, not empty. Unpacking writes
+    the views under these names inside the output folder, so a sidecar cannot send a
+    view anywhere else (onto the packed video, or outside the folder)."""
+    return (name not in ("", ".", "..") and PurePosixPath(name).name == name
+            and PureWindowsPath(name).name == name)
+
+
+def repeated_file(files: Mapping[tuple[str, str], str]
+                  ) -> tuple[tuple[str, str], tuple[str, str]] | None:
+    """The first two views of ``files`` ((name, kind) -> file name) that share a file
+    name, or None: unpacking restores every view under its name in one folder."""
+    seen: dict[str, tuple[str, str]] = {}
+    for key, file in files.items():
+        if file in seen:
+            return seen[file], key
+        seen[file] = key
+    return None
+
+
+def _check_source_size(placement: Placement, path: Path) -> None:
+    """A view's own size must be positive and what its decimation makes of it must be
+    its size in the frame, or unpacking would hand the writer planes of another shape."""
+    for packed_field, source_field, factor in (
+            ("width", "source_width", placement.decimation[0]),
+            ("height", "source_height", placement.decimation[1])):
+        packed, source = getattr(placement, packed_field), getattr(placement, source_field)
+        if source < 1:
+            raise ConfigError(f"view {placement.name}: {source_field} must be positive, got "
+                              f"{source}", path=path, key=source_field)
+        if -(-source // factor) != packed:
+            raise ConfigError(f"view {placement.name}: {source_field} {source} at decimation "
+                              f"{factor} takes {-(-source // factor)} samples in the frame, not "
+                              f"the view's {packed_field} {packed}", path=path,
+                              key=source_field)
+
+
 def read_sidecar(path: str | os.PathLike) -> PackedVideo:
     """Read and check a sidecar.
 
     Raises
     ------
     ConfigError
-        Not JSON, not an mvtools pack sidecar, a missing or mistyped field, or views
-        that overlap or leave the frame (naming the view and the field).
+        Not JSON, not an mvtools pack sidecar, a missing or mistyped field, views
+        that overlap or leave the frame, a view whose own size does not give its size
+        in the frame, or a view file that is not a bare file name or is another view's
+        too (naming the view and the field).
     """
     path = Path(path)
     document = read_json(path, "pack sidecar")
@@ -132,8 +174,19 @@ def read_sidecar(path: str | os.PathLike) -> PackedVideo:
                     and other.y < placement.y + placement.height):
                 raise ConfigError(f"views {other.name} and {name} overlap", path=path,
                                   key="views")
+        _check_source_size(placement, path)
         placements.append(placement)
-        files[(name, view_kind)] = _field(entry, "file", str, path, f"view {name}")
+        file = _field(entry, "file", str, path, f"view {name}")
+        if not _is_bare_file_name(file):
+            raise ConfigError(f"view {name}: {file!r} is not a bare file name: a sidecar "
+                              "names the views' files inside the output folder (no folder "
+                              "part, no '..', not absolute)", path=path, key="file")
+        files[(name, view_kind)] = file
+        repeated = repeated_file(files)
+        if repeated is not None:
+            first, second = (view for view, _ in repeated)
+            raise ConfigError(f"views {first} and {second} both name {file!r}: one would "
+                              "overwrite the other", path=path, key="file")
         pix_fmts[(name, view_kind)] = _field(entry, "pix_fmt", str, path, f"view {name}")
     layout = Layout(kind=kind, width=width, height=height, placements=tuple(placements))
     return PackedVideo(layout=layout, pix_fmt=pix_fmt, frames=frames, files=files,
