@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-import json
+import contextlib
 import logging
 import math
+from collections.abc import Iterator
 from pathlib import Path
 
 import click
@@ -13,9 +14,9 @@ import numpy as np
 from mvtools.cli.options import ProgramCommand, program
 from mvtools.color import yuv_to_rgb
 from mvtools.color.levels import depth_preview
-from mvtools.errors import UsageError
-from mvtools.io.atomic import atomic_output
-from mvtools.io.files import read_json
+from mvtools.errors import ConfigError, DataError, UsageError
+from mvtools.io.atomic import atomic_output, output_folder_exists
+from mvtools.io.files import read_bytes, read_json, read_text
 from mvtools.io.images import encode_image, read_image
 from mvtools.io.yuv import format_from_name, open_video
 from mvtools.report import Picture, Plot, Section, Table, bar_plot, html_page, line_plot
@@ -44,7 +45,9 @@ def command(build_dir, output, title):
     if not folder.is_dir():
         raise UsageError("no such folder", path=folder)
     output = Path(output) if output else folder / "report.html"
-    sections = [_calibrations(folder), _pictures(folder, output), _scores(folder),
+    # before the videos are read, not after: the page is written last
+    output_folder_exists(output.parent)
+    sections = [_calibrations(folder), _pictures(folder), _scores(folder),
                 _depth_errors(folder), _compressions(folder)]
     page = html_page(title or f"mvtools report of {folder.resolve().name}", sections)
     with atomic_output(output, "w") as handle:
@@ -53,26 +56,43 @@ def command(build_dir, output, title):
 
 
 def _reports(folder: Path, key: str):
+    """``(path, document)`` of the ``report.json`` files under ``folder`` that have ``key``."""
     for path in sorted(folder.rglob("report.json")):
-        document = json.loads(path.read_text())
+        document = read_json(path)
         if isinstance(document, dict) and key in document:
             yield path, document
+
+
+@contextlib.contextmanager
+def _document(path: Path, what: str) -> Iterator[None]:
+    """The scope in which the fields of ``path``, a file another program wrote, are read:
+    a field that is missing or of the wrong kind is a ConfigError naming the file (and a
+    missing key), not a traceback. ``what`` names what the file should be."""
+    try:
+        yield
+    except KeyError as error:
+        raise ConfigError(f"not {what}: it has no {error.args[0]!r}", path=path) from error
+    except (TypeError, ValueError, IndexError, AttributeError) as error:
+        raise ConfigError(f"not {what}: {error}", path=path) from error
 
 
 def _calibrations(folder: Path) -> Section:
     section = Section("Calibration")
     for path, document in _reports(folder, "baselines_m"):
-        cameras = document["cameras"]
-        section.items.append(Table(
-            f"{path.parent.relative_to(folder)}: cameras",
-            ("camera", "fx", "fy", "cx", "cy", "K1", "K2", "RMS px", "captures"),
-            [(camera["name"], camera["K"][0][0], camera["K"][1][1], camera["K"][0][2],
-              camera["K"][1][2], camera["distortion"]["K1"], camera["distortion"]["K2"],
-              camera["rms_px"], len(camera["captures_used"])) for camera in cameras]))
-        section.items.append(Plot("reprojection error of every capture used (px RMS), per camera",
-                                  bar_plot({camera["name"]: list(camera["capture_rms_px"].values())
-                                            for camera in cameras}, y_label="px RMS")))
-        section.items += [Picture(picture.stem, picture.read_bytes())
+        with _document(path, "the calibration report of mvtools calibrate"):
+            cameras = [_expect(camera, dict, "camera")
+                       for camera in _expect(document["cameras"], list, "cameras")]
+            section.items.append(Table(
+                f"{path.parent.relative_to(folder)}: cameras",
+                ("camera", "fx", "fy", "cx", "cy", "K1", "K2", "RMS px", "captures"),
+                [(camera["name"], camera["K"][0][0], camera["K"][1][1], camera["K"][0][2],
+                  camera["K"][1][2], camera["distortion"]["K1"], camera["distortion"]["K2"],
+                  camera["rms_px"], len(camera["captures_used"])) for camera in cameras]))
+            errors = {camera["name"]: [float(rms) for rms in camera["capture_rms_px"].values()]
+                      for camera in cameras}
+            section.items.append(Plot("reprojection error of every capture used (px RMS), "
+                                      "per camera", bar_plot(errors, y_label="px RMS")))
+        section.items += [Picture(picture.stem, read_bytes(picture, "picture"))
                           for picture in sorted(path.parent.glob("*_corners.png"))]
     return section
 
@@ -90,7 +110,7 @@ def _first_frame(path: Path) -> np.ndarray | None:
         return yuv_to_rgb(planes, bits=fmt.bits) if fmt.bits == 8 else None
 
 
-def _pictures(folder: Path, output: Path) -> Section:
+def _pictures(folder: Path) -> Section:
     section = Section("Pictures (first frames; depth maps colour-mapped, red near)")
     # the many decoded videos of a rate-distortion run are shown by its curves instead
     encoded = {path.parent for path, _ in _reports(folder, "modes")}
@@ -118,7 +138,11 @@ def _scores(folder: Path) -> Section:
     frames of its reference and test videos side by side and their luma error map."""
     section = Section("Scores (reference | test | luma error x4)")
     for path in sorted(folder.rglob("*.scores")):
-        lines = [line.split() for line in path.read_text().splitlines()]
+        text = read_text(path, "scores file")
+        # a table is text; a NUL byte says that this is some other file named so
+        if "\0" in text:
+            raise DataError("not the table of mvtools evaluate: the file is not text", path=path)
+        lines = [line.split() for line in text.splitlines()]
         header = next((line for line in lines if line and line[0] == "frame"), None)
         if header is None:
             continue
@@ -148,27 +172,36 @@ def _depth_errors(folder: Path) -> Section:
     """The error histograms of ``mvtools evaluate --depth/--disparity --json`` outputs
     (``*.errors.json``) in one plot, and their scores in one table."""
     section = Section("Depth and disparity errors")
-    histograms, rows = {}, []
+    what = "the JSON of mvtools evaluate --depth/--disparity"
+    bins, percentages, rows = None, {}, []
     for path in sorted(folder.rglob("*.errors.json")):
         document = read_json(path)
         if not isinstance(document, dict) or "histogram" not in document:
-            LOG.warning("%s: not the JSON of mvtools evaluate --depth/--disparity; left out",
-                        path)
+            LOG.warning("%s: not %s; left out", path, what)
             continue
         name = path.name[:-len(".errors.json")]
-        histograms[name] = document["histogram"]
-        mean = document.get("mean") or {
-            **{f"bad {t}": value for t, value in document["bad_all"].items()},
-            "mean abs": document["mean_abs_error"], "RMS": document["rms_error"]}
-        rows.append((name, *(mean.get(key, math.nan)
-                             for key in ("bad 1", "bad 2", "mean abs", "RMS"))))
-    if not histograms:
+        with _document(path, what):
+            histogram = _expect(document["histogram"], dict, "histogram")
+            percent = [float(value) for value in _expect(histogram["percent"], list, "percent")]
+            if len(percent) != len(_expect(histogram["bins"], list, "bins")):
+                raise ValueError("the histogram has not one percentage per bin")
+            # one plot: every histogram has the bins of the first
+            if bins is not None and list(histogram["bins"]) != bins:
+                raise ValueError(f"the histogram's bins are not {bins}")
+            bins = list(histogram["bins"])
+            mean = document.get("mean") or {
+                **{f"bad {t}": value for t, value in document["bad_all"].items()},
+                "mean abs": document["mean_abs_error"], "RMS": document["rms_error"]}
+            rows.append((name, *(float(mean.get(key, math.nan))
+                                 for key in ("bad 1", "bad 2", "mean abs", "RMS"))))
+        percentages[name] = percent
+    if bins is None:
         return section
-    bins = next(iter(histograms.values()))["bins"]
-    groups = {label: [histogram["percent"][i] for histogram in histograms.values()]
+    groups = {label: [percent[i] for percent in percentages.values()]
               for i, label in enumerate(bins)}
     section.items.append(Plot("% of pixels per absolute disparity error (px)",
-                              bar_plot(groups, y_label="% of pixels", series=list(histograms))))
+                              bar_plot(groups, y_label="% of pixels",
+                                       series=list(percentages))))
     section.items.append(Table("disparity errors against the ground truth",
                                ("depth", "bad 1 %", "bad 2 %", "mean abs px", "RMS px"), rows))
     return section
@@ -178,20 +211,43 @@ def _compressions(folder: Path) -> Section:
     section = Section("Compression")
     for path, document in _reports(folder, "modes"):
         where = path.parent.relative_to(folder)
-        series = {mode: [(point["kbps"], point["mean_texture_yuv_psnr"]) for point in points]
-                  for mode, points in document["modes"].items()}
-        section.items.append(Plot(f"{where}: rate-distortion (mean texture YUV-PSNR)",
-                                  line_plot(series, x_label="kbit/s", y_label="dB",
-                                            log_x=True)))
-        section.items.append(Table(f"{where}: rate points", ("mode", "QP", "kbit/s", "YUV-PSNR"),
-                                   [(mode, point["qp"], point["kbps"],
-                                     point["mean_texture_yuv_psnr"])
-                                    for mode, points in document["modes"].items()
-                                    for point in points]))
-        deltas = document.get("bjontegaard", {})
-        if deltas:
-            section.items.append(Table(f"{where}: packed against simulcast",
-                                       ("interpolation", "BD-rate %", "BD-PSNR dB"),
-                                       [(method, values["bd_rate_percent"], values["bd_psnr_db"])
-                                        for method, values in deltas.items()]))
+        with _document(path, "the rate-distortion report of mvtools encode"):
+            modes = {mode: [_expect(point, dict, f"a point of {mode}")
+                            for point in _expect(points, list, mode)]
+                     for mode, points in _expect(document["modes"], dict, "modes").items()}
+            series = {mode: [(_rate(point["kbps"]), float(point["mean_texture_yuv_psnr"]))
+                             for point in points]
+                      for mode, points in modes.items()}
+            section.items.append(Plot(f"{where}: rate-distortion (mean texture YUV-PSNR)",
+                                      line_plot(series, x_label="kbit/s", y_label="dB",
+                                                log_x=True)))
+            section.items.append(Table(f"{where}: rate points",
+                                       ("mode", "QP", "kbit/s", "YUV-PSNR"),
+                                       [(mode, point["qp"], point["kbps"],
+                                         point["mean_texture_yuv_psnr"])
+                                        for mode, points in modes.items()
+                                        for point in points]))
+            deltas = _expect(document.get("bjontegaard", {}), dict, "bjontegaard")
+            if deltas:
+                section.items.append(Table(f"{where}: packed against simulcast",
+                                           ("interpolation", "BD-rate %", "BD-PSNR dB"),
+                                           [(method, values["bd_rate_percent"],
+                                             values["bd_psnr_db"])
+                                            for method, values in deltas.items()]))
     return section
+
+
+def _expect(value, kind: type, name: str):
+    """``value`` if it is a ``kind`` (dict: a JSON object, list: an array), else a
+    TypeError naming the field, for :func:`_document`."""
+    if not isinstance(value, kind):
+        raise TypeError(f"{name} is not a JSON {'object' if kind is dict else 'array'}")
+    return value
+
+
+def _rate(kbps) -> float:
+    """A rate of the plot's logarithmic axis: a positive number."""
+    rate = float(kbps)
+    if not rate > 0:
+        raise ValueError(f"a rate of {kbps} kbit/s")
+    return rate

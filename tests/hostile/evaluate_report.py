@@ -4,7 +4,7 @@ damaged build folders, frame rates that are not numbers."""
 import json
 from pathlib import Path
 
-from hostile import Case, copy_sample, together, write
+from hostile import SAMPLE, Case, copy_sample, together, write
 
 REF, TEST = "v1_texture_256x192_yuv420p.yuv", "v2_texture_256x192_yuv420p.yuv"
 VIDEOS = copy_sample(REF, TEST)
@@ -50,6 +50,13 @@ def _calibration_report(**changes) -> str:
               "distortion": {"K1": 0.0, "K2": 0.0}, "rms_px": 0.2,
               "captures_used": ["a", "b"], "capture_rms_px": {"a": 0.2, "b": 0.3}}
     return json.dumps({"baselines_m": {}, "cameras": [camera], **changes})
+
+
+def _errors_json(bins: list[str]) -> str:
+    """The JSON of mvtools evaluate --disparity with a histogram of ``bins``."""
+    return json.dumps({"histogram": {"bins": bins, "pixels": [9, 1], "percent": [90.0, 10.0]},
+                       "bad_all": {"1": 10.0, "2": 5.0}, "mean_abs_error": 0.4,
+                       "rms_error": 0.6})
 
 
 def _in_build(name: str, content: str | bytes):
@@ -161,6 +168,17 @@ CASES = [
          _in_build("a.scores", bytes(range(256)) * 4)),
     Case("report, a picture that is no image", ("report", "build"), 1,
          r"build/x.png: cannot decode the image", _in_build("x.png", "notes\n")),
+    Case("report, a truncated video", ("report", "build"), 1,
+         rf"build/{REF}: 80000 bytes is not a whole number",
+         _in_build(REF, (SAMPLE / "line" / REF).read_bytes()[:80000])),
+    Case("report, an errors.json of a histogram of other bins", ("report", "build"), 2,
+         r"build/b.errors.json: .*bins are not",
+         together(_in_build("a.errors.json", _errors_json(["0-1", ">= 1"])),
+                  _in_build("b.errors.json", _errors_json(["0-2", ">= 2"])))),
+    Case("report, a good run of depth errors", ("report", "build"), 0,
+         files=together(_in_build("a.errors.json", _errors_json(["0-1", ">= 1"])),
+                        _in_build("b.errors.json", _errors_json(["0-1", ">= 1"]))),
+         outputs=("build/report.html",)),
     Case("report -o onto the report.json it reads", ("report", "build", "-o", "build/report.json"),
          2, r"build/report.json: the output would overwrite an input",
          _in_build("report.json", _calibration_report())),
