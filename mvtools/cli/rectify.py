@@ -16,7 +16,9 @@ from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.camera import turn_world
 from mvtools.geometry.depth import DepthCoding, check_depth_range
+from mvtools.io.atomic import output_folder_exists
 from mvtools.io.cameras import get_camera, write_cameras
+from mvtools.io.guard import check_output
 from mvtools.io.json_cameras import read_camera_file, write_json_cameras
 from mvtools.io.yuv import open_writer
 from mvtools.rectification import (DepthResampler, Rectification, cameras_between, chroma_maps,
@@ -81,6 +83,11 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
     textures are sampled bilinearly (chroma at its own resolution), depth maps at the
     nearest pixel.
     """
+    if depth_range is not None:
+        try:
+            check_depth_range(*depth_range)
+        except ValueError as error:
+            raise UsageError(str(error), key="--depth-range") from None
     cameras = read_camera_file(camera_file, transposed_rotation=transposed_rotation)
     names = list(camera_names) or list(dict.fromkeys(name for name, _ in (*textures, *depths)))
     if not names:
@@ -99,6 +106,12 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
                            for camera in selected)
         raise DataError(f"the cameras differ in picture size ({listed}); rectified cameras "
                         "share one")
+    index_of = {name: index for index, name in enumerate(names)}
+    depth_ranges = {name: _depth_range_of(selected[index_of[name]], depth_range, path)
+                    for name, path in videos["depth"].items()}
+    out = Path(out_dir)
+    camera_target = Path(cameras_out) if cameras_out else out / "cameras.txt"
+    targets = _outputs(videos, out, camera_target)
     try:
         if undistort_only:
             result = undistortion(selected, alpha=alpha)
@@ -107,23 +120,18 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
     except ValueError as error:
         raise DataError(str(error), path=camera_file) from None
     _log_warps(result, undistort_only)
-    index_of = {name: index for index, name in enumerate(names)}
-    depth_ranges = {name: _depth_range_of(selected[index_of[name]], depth_range, path)
-                    for name, path in videos["depth"].items()}
-    out = Path(out_dir)
-    _check_targets(videos, out)
     out.mkdir(parents=True, exist_ok=True)
     for kind, by_camera in videos.items():
         for name, path in by_camera.items():
             index = index_of[name]
-            _rectify_video(Path(path), out, kind, result, index, selected[index], size, pix_fmt,
-                           start_frame, frame_count, depth_ranges.get(name))
+            _rectify_video(Path(path), targets[kind, name], kind, result, index, selected[index],
+                           size, pix_fmt, start_frame, frame_count, depth_ranges.get(name))
     described = result.cameras
     if virtual_count:
         described = described + cameras_between(described, virtual_count)
     if not (undistort_only or keep_world):
         described = turn_world(described, described[0].R)
-    _write_cameras(Path(cameras_out) if cameras_out else out / "cameras.txt", described)
+    _write_cameras(camera_target, described)
     click.echo(_summary(result, undistort_only))
 
 
@@ -139,26 +147,40 @@ def _videos_by_camera(pairs, names, option) -> dict[str, str]:
     return by_camera
 
 
-def _check_targets(videos, out: Path) -> None:
-    """Each output is named as its input: no input may be overwritten, no two alike."""
-    targets: dict[Path, str] = {}
-    for by_camera in videos.values():
-        for path in map(Path, by_camera.values()):
-            target = out / path.name
-            if target.resolve() == path.resolve():
-                raise UsageError("the output would overwrite the input: choose another "
-                                 "--out-dir", path=path)
-            if target in targets:
-                raise UsageError(f"{targets[target]} and {path} would both be written to "
-                                 f"{target}: rename one")
-            targets[target] = str(path)
+def _outputs(videos, out: Path, camera_target: Path) -> dict[tuple[str, str], Path]:
+    """The rectified video of each (kind, camera): OUT_DIR/its input's name.
+
+    The outputs are refused now, before the work, rather than when each is written,
+    which would leave the videos written before it: no two alike (two inputs of one
+    name in two folders would collide), none an input (the guard's rule; the inputs
+    have been read), and the camera file's folder either OUT_DIR, which is created, or
+    one that exists.
+    """
+    targets: dict[tuple[str, str], Path] = {}
+    written: dict[Path, str] = {}
+    for kind, by_camera in videos.items():
+        for name, path in by_camera.items():
+            target = targets[kind, name] = out / Path(path).name
+            if target.resolve() in written:
+                raise UsageError(f"{written[target.resolve()]} and {path} would both be "
+                                 f"written to {target}: rename one")
+            written[target.resolve()] = path
+    if camera_target.resolve() in written:
+        raise UsageError(f"the camera file would replace the rectified "
+                         f"{written[camera_target.resolve()]}: give another --cameras-out",
+                         path=camera_target)
+    for target in (*targets.values(), camera_target):
+        check_output(target)
+    if camera_target.parent.resolve() != out.resolve():
+        output_folder_exists(camera_target.parent)
+    return targets
 
 
 def _sized_camera(camera, videos, camera_size, size, pix_fmt):
     """The camera with its picture size: from its videos, else the camera file, else
     --camera-size."""
     sizes = {}
-    for kind, by_camera in videos.items():
+    for by_camera in videos.values():
         if camera.name in by_camera:
             with open_input_video(by_camera[camera.name], size, pix_fmt) as video:
                 sizes[by_camera[camera.name]] = video.format.size
@@ -198,20 +220,15 @@ def _write_cameras(path: Path, cameras) -> None:
 
 
 def _depth_range_of(camera, depth_range, path) -> tuple[float, float]:
+    """--depth-range (checked), else the camera's (the camera file's reader checks it)."""
     if depth_range is None and camera.depth_range is None:
         raise UsageError("the depth map's Znear and Zfar are unknown: give --depth-range ZNEAR "
                          "ZFAR", path=path)
-    given = depth_range if depth_range is not None else camera.depth_range
-    try:
-        check_depth_range(*given)
-    except ValueError as error:
-        raise UsageError(str(error), key="--depth-range") from None
-    return tuple(given)
+    return tuple(depth_range if depth_range is not None else camera.depth_range)
 
 
-def _rectify_video(path: Path, out: Path, kind: str, result: Rectification, index: int,
+def _rectify_video(path: Path, target: Path, kind: str, result: Rectification, index: int,
                    source_camera, size, pix_fmt, start_frame, frame_count, depth_range) -> None:
-    target = out / path.name
     map_x, map_y = result.maps[index]
     with open_input_video(path, size, pix_fmt) as video:
         fmt = video.format
