@@ -26,6 +26,10 @@ __all__ = ["read_image", "write_image", "encode_image", "read_pfm", "write_pfm",
 
 logger = logging.getLogger(__name__)
 
+# OpenCV's decoders report damage on stderr from C++ ("[ERROR:0@0.057] ... IHDR chunk
+# shall be first"), before and beside read_image's one line naming the file: silenced.
+cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)
+
 # Extensions written through OpenCV, and whether they hold 16-bit samples.
 _CV2_EXTENSIONS = {".png": True, ".pgm": True, ".ppm": True, ".pnm": True, ".tif": True,
                    ".tiff": True, ".jpg": False, ".jpeg": False, ".bmp": False}
