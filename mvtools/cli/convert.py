@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import re
 from dataclasses import replace
 from pathlib import Path
 
@@ -58,7 +60,10 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
 
     \b
     Image files (PNG, JPEG, PGM, ...) -> .yuv/.y4m video (BT.601 limited range).
-    Video -> video in another pixel format (--out-pix-fmt), or raw <-> Y4M.
+    Video -> video in another pixel format (--out-pix-fmt), or raw <-> Y4M
+    (the same samples). Texture bit depths change as ffmpeg changes them: up
+    shifted, down with its ordered dither; chroma is resampled only for another
+    layout.
     Video -> one image per frame (RGB, or grey depth with --depth; --preview for
     8-bit pictures, colour-mapped for depth).
     Depth video -> PFM of z or disparity (--depth --to z|disparity, with --znear --zfar).
@@ -76,9 +81,17 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
     if not out_is_video and output.suffix.lower() not in IMAGE_EXTENSIONS:
         raise UsageError(f"unknown output type {output.suffix!r}: use .yuv, .y4m or an image "
                          f"extension ({', '.join(IMAGE_EXTENSIONS)})", path=output)
+    if to_quantity is not None and from_quantity is not None:
+        raise UsageError("--to writes PFM images of a depth video, --from reads them: give one",
+                         key="--to/--from")
     if first.suffix.lower() in VIDEO_EXTENSIONS:
         if len(inputs) > 1:
             raise UsageError("give one video input at a time")
+        if from_quantity is not None:
+            raise UsageError("the input is a video, and --from reads PFM images of z or "
+                             "disparity (--to writes them)", path=first, key="--from")
+        if not out_is_video:
+            _check_frame_pattern(output)
         if to_quantity is not None:
             _depth_video_to_pfm(first, size, pix_fmt, start_frame, frame_count, output,
                                 to_quantity, _range(znear, zfar), focal, baseline)
@@ -90,6 +103,9 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
         return
     if not out_is_video:
         raise UsageError("images convert to a .yuv or .y4m video", path=output)
+    if to_quantity is not None:
+        raise UsageError("the input is not a video, and --to writes PFM images of a depth "
+                         "video (--from reads them)", path=first, key="--to")
     if from_quantity is not None:
         _pfm_to_depth_video(inputs, output, out_pix_fmt or "yuv420p", from_quantity,
                             _range(znear, zfar), focal, baseline)
@@ -142,7 +158,39 @@ def _range(znear, zfar) -> tuple[float, float]:
 def _stereo(focal, baseline) -> tuple[float, float]:
     if focal is None or baseline is None:
         raise UsageError("--focal and --baseline are needed for disparities")
+    try:
+        # The rule on focal and baseline is geometry.depth's: tried on no disparity at
+        # all, it names the options before any frame is read.
+        disparity_to_z(np.zeros(0), focal, baseline)
+    except ValueError as error:
+        raise UsageError(str(error), key="--focal/--baseline") from None
     return focal, baseline
+
+
+@contextlib.contextmanager
+def _samples_of(path, frame: int | None = None):
+    """The algorithm layer's ValueErrors on the samples of ``path`` (the options were
+    checked before) are the file's fault: a DataError naming it and the frame."""
+    try:
+        yield
+    except ValueError as error:
+        where = "" if frame is None else f"frame {frame}: "
+        raise DataError(f"{where}{error}", path=path) from None
+
+
+# One printf field of an integer (frame_%03d.png, f%x.png); %% is a % sign.
+_FRAME_FIELD = re.compile(r"%[-#0 +]*\d*(?:\.\d+)?[diouxX]")
+
+
+def _check_frame_pattern(pattern: Path) -> None:
+    """A name with a ``%`` must hold one frame number field, so that every frame gets
+    a name of its own (checked before any frame is read or written)."""
+    if "%" not in pattern.name:
+        return
+    name = pattern.name.replace("%%", "")
+    if len(_FRAME_FIELD.findall(name)) != 1 or "%" in _FRAME_FIELD.sub("", name):
+        raise UsageError("a numbered output name holds one frame number field such as %03d "
+                         "(and %% for a % sign)", path=pattern, key="-o")
 
 
 def _frame_name(pattern: Path, index: int, count: int) -> Path:
@@ -150,7 +198,7 @@ def _frame_name(pattern: Path, index: int, count: int) -> Path:
         return pattern.with_name(pattern.name % index)
     if count > 1:
         raise UsageError("several frames need a numbered output name such as frame_%03d.png",
-                         path=pattern)
+                         path=pattern, key="-o")
     return pattern
 
 
@@ -163,8 +211,11 @@ def _video_to_video(path, size, pix_fmt, start, count, output, out_pix_fmt, dept
         progress = Progress(len(frames), "frames converted")
         with open_writer(output, target) as writer:
             for index in frames:
-                writer.write(convert_planes(video.read(index), bits=source.bits,
-                                            to_chroma=target.chroma, to_bits=target.bits, depth=depth))
+                with _samples_of(path, index):
+                    planes = convert_planes(video.read(index), bits=source.bits,
+                                            to_chroma=target.chroma, to_bits=target.bits,
+                                            depth=depth)
+                writer.write(planes)
                 progress.advance()
 
 
@@ -194,9 +245,10 @@ def _depth_video_to_pfm(path, size, pix_fmt, start, count, output, quantity, dep
     with open_input_video(path, size, pix_fmt) as video:
         frames = frame_range([video], start, count)
         for index in frames:
-            # z signed as the file codes it; disparity positive, as in front of the camera
-            z = depth_to_z(video.read(index)[0], *depth_range, bits=video.format.bits)
-            values = z if quantity == "z" else z_to_disparity(np.abs(z), focal, baseline)
+            with _samples_of(path, index):
+                # z signed as the file codes it; disparity positive, as in front of the camera
+                z = depth_to_z(video.read(index)[0], *depth_range, bits=video.format.bits)
+                values = z if quantity == "z" else z_to_disparity(np.abs(z), focal, baseline)
             write_image(_frame_name(output, index, len(frames)), values.astype(np.float32))
 
 
@@ -209,13 +261,15 @@ def _pfm_to_depth_video(inputs, output, out_pix_fmt, quantity, depth_range, foca
             values = read_image(path)
             if values.ndim != 2 or values.dtype.kind != "f":
                 raise DataError("expected a one-channel PFM of z or disparity", path=path)
-            z = values if quantity == "z" else (depth_sign(*depth_range)
-                                                * disparity_to_z(values, focal, baseline))
             if target is None:
                 target = YuvFormat.from_pix_fmt(values.shape[1], values.shape[0], out_pix_fmt)
                 writer.start(target)
             _check_size(values.shape, target, path)
-            writer.write(frame_from_luma(target, z_to_depth(z, *depth_range, bits=target.bits)))
+            with _samples_of(path):
+                z = values if quantity == "z" else (depth_sign(*depth_range)
+                                                    * disparity_to_z(values, focal, baseline))
+                luma = z_to_depth(z, *depth_range, bits=target.bits)
+            writer.write(frame_from_luma(target, luma))
 
 
 def _images_to_video(inputs, output, out_pix_fmt):

@@ -467,13 +467,18 @@ def _y4m_colorspace(fmt: YuvFormat) -> str:
 
 def _y4m_format(tag: str, width: int, height: int, path: Path) -> YuvFormat:
     if tag in _Y4M_8BIT:
-        return YuvFormat(width, height, _Y4M_8BIT[tag], 8)
-    match = _Y4M_DEEP.match(tag)
-    if match and int(match.group(2)) in BIT_DEPTHS:
-        return YuvFormat(width, height, match.group(1) or "400", int(match.group(2)))
-    raise DataError(f"YUV4MPEG2 colour space C{tag} is not supported (supported: 420jpeg, "
-                    f"420paldv, 420mpeg2, 420, 422, 444, mono and their p10/p12/p16, mono10/12/16)",
-                    path=path)
+        chroma, bits = _Y4M_8BIT[tag], 8
+    else:
+        match = _Y4M_DEEP.match(tag)
+        if not (match and int(match.group(2)) in BIT_DEPTHS):
+            raise DataError(f"YUV4MPEG2 colour space C{tag} is not supported (supported: "
+                            f"420jpeg, 420paldv, 420mpeg2, 420, 422, 444, mono and their "
+                            f"p10/p12/p16, mono10/12/16)", path=path)
+        chroma, bits = match.group(1) or "400", int(match.group(2))
+    try:
+        return YuvFormat(width, height, chroma, bits)
+    except UsageError as error:  # W0 or H-4: the file's header is at fault, not the user
+        raise DataError(f"YUV4MPEG2 header: {error.message}", path=path) from None
 
 
 class Y4mReader(VideoReader):
@@ -531,7 +536,9 @@ class Y4mReader(VideoReader):
     def _count_frames(self, handle, file_bytes: int) -> int:
         payload = file_bytes - self._data_start
         if payload == 0:
-            return 0
+            # as an empty raw file is: no program has anything to do with it
+            raise DataError("the video holds no frame (a YUV4MPEG2 header and nothing more)",
+                            path=self.path)
         frame_line = self._frame_line_at(handle, self._data_start)
         if frame_line == 0:
             raise DataError(f"no FRAME line at byte {self._data_start}", path=self.path)
@@ -610,8 +617,8 @@ def open_video(path: str | os.PathLike, fmt: YuvFormat | None = None) -> VideoRe
     UsageError
         Missing file, or no format given and none in the name.
     DataError
-        Empty file, or a size that is not a whole number of frames (the message
-        names the formats that would fit).
+        Empty file, a Y4M file holding no frame, or a size that is not a whole number
+        of frames (the message names the formats that would fit).
     """
     path = Path(path)
     _file_size(path)
