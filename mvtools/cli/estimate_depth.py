@@ -36,8 +36,9 @@ from mvtools.cli.progress import Progress
 from mvtools.depth import COSTS, METHODS, estimate_disparity
 from mvtools.depth.ders import DersEstimator, Neighbour
 from mvtools.errors import ConfigError, DataError, UsageError
-from mvtools.io.atomic import atomic_output
+from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.config import param_entry
+from mvtools.io.guard import check_output
 from mvtools.io.images import read_image, write_image
 from mvtools.io.yuv import YuvFormat, format_from_name, frame_from_luma, open_video, open_writer
 from mvtools.params import DersParams
@@ -191,9 +192,9 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
     if min_disparity >= max_disparity:
         raise UsageError(f"empty disparity range: --min-disparity {min_disparity} must be "
                          f"smaller than --disparities {max_disparity}")
-    outputs = _check_outputs(Path(output), None if png is None else Path(png), png_scale,
-                             min_disparity, max_disparity, inputs=(Path(left), Path(right)))
     left_rgb, right_rgb = _read_view(Path(left)), _read_view(Path(right))
+    outputs = _check_outputs(Path(output), None if png is None else Path(png), png_scale,
+                             min_disparity, max_disparity)
     if left_rgb.shape != right_rgb.shape:
         raise DataError(f"the right picture is {right_rgb.shape[1]}x{right_rgb.shape[0]}, the "
                         f"left one {left_rgb.shape[1]}x{left_rgb.shape[0]}", path=right)
@@ -202,16 +203,13 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
              right if pair_view == "right" else left, width, height, min_disparity,
              max_disparity, method, cost or PAIR_COST)
     start = time.perf_counter()
-    try:
-        disparity = estimate_disparity(left_rgb, right_rgb, max_disparity=max_disparity,
-                                       min_disparity=min_disparity, method=method,
-                                       cost=cost or PAIR_COST, subpixel=bool(subpixel),
-                                       segment_planes=segment_planes is not False,
-                                       segmentation=bool(segmentation),
-                                       view=pair_view or "left")
-    except ValueError as error:
-        # The method's own limits on the range or picture size, which options can break.
-        raise UsageError(str(error)) from None
+    # The method's own limits on the range or picture size, which options can break, are
+    # ValueErrors: usage errors at the programs' edge.
+    disparity = estimate_disparity(left_rgb, right_rgb, max_disparity=max_disparity,
+                                   min_disparity=min_disparity, method=method,
+                                   cost=cost or PAIR_COST, subpixel=bool(subpixel),
+                                   segment_planes=segment_planes is not False,
+                                   segmentation=bool(segmentation), view=pair_view or "left")
     known = np.isfinite(disparity)
     LOG.info("disparity estimated in %.2f s, %.1f %% of the pixels unknown",
              time.perf_counter() - start, 100.0 * (1.0 - known.mean()))
@@ -223,6 +221,9 @@ def command(config, overrides, data_dirs, left, right, max_disparity, min_dispar
 
 
 # --------------------------------------------------------------------------- DERS mode
+
+#: The sidecar OUTPUT.json in messages.
+_SIDECAR = "depth values' description (OUTPUT.json)"
 
 #: Neighbour sides that MatchDirection matches.
 _DIRECTIONS = {1: ("left",), 2: ("right",), 3: ("left", "right")}
@@ -265,9 +266,6 @@ def _ders_mode(config: str, overrides, data_dirs, *, output: str | None,
             "no output file given (or -o)", UsageError)
     target = loaded.outputs["file_output_depth_map_image"]
     sidecar = target.with_name(target.name + ".json")
-    inputs = {path.resolve() for path, _ in videos}
-    if target.resolve() in inputs or sidecar.resolve() in inputs:
-        raise UsageError("the output would overwrite an input", path=target)
     depth_format = _depth_format(target, size, depth_bits)
     center = loaded.cameras["center_camera_name"]
     try:
@@ -283,6 +281,10 @@ def _ders_mode(config: str, overrides, data_dirs, *, output: str | None,
             if reader.format.chroma == "400":
                 raise DataError("a view needs colour planes, this video is grey (4:0:0)",
                                 path=reader.path)
+        # Every input is now open, so the run's guard knows it: an output that names
+        # one is refused before any work.
+        check_output(target)
+        check_output(sidecar, _SIDECAR)
         frames = loaded.frame_range(readers)
         LOG.info("estimating the depth of %s from %s (%s, %d planes), %d frame%s from frame %d",
                  center.name, " and ".join(n.camera.name for n in neighbours), params.method,
@@ -291,7 +293,7 @@ def _ders_mode(config: str, overrides, data_dirs, *, output: str | None,
         LOG.info("depth values mean NearestDepthValue %.6f FarthestDepthValue %.6f "
                  "(%d-bit, %s)", znear, zfar, depth_format.bits, sidecar)
         writer = stack.enter_context(open_writer(target, depth_format))
-        description = stack.enter_context(atomic_output(sidecar, "w"))
+        description = stack.enter_context(atomic_output(sidecar, "w", what=_SIDECAR))
         first = estimator.fresh_frame(frames.start)
         if first < frames.start:
             # a chunk of a longer run estimates, unwritten, the frames whose depth
@@ -387,8 +389,9 @@ def disparity_png_values(disparity: np.ndarray, *, scale: float) -> np.ndarray:
 
 
 def _check_outputs(output: Path, png: Path | None, png_scale: float, min_disparity: int,
-                   max_disparity: int, *, inputs: tuple[Path, Path]) -> list[Path]:
-    """The output paths, checked before any work so that a bad one leaves nothing behind."""
+                   max_disparity: int) -> list[Path]:
+    """The output paths, checked once the inputs are read and before the estimation, so
+    that a bad one fails at once and leaves nothing behind."""
     if output.suffix.lower() != ".pfm":
         raise UsageError("the disparity map is written as PFM: give a name ending in .pfm",
                          path=output, key="-o")
@@ -405,12 +408,9 @@ def _check_outputs(output: Path, png: Path | None, png_scale: float, min_dispari
             raise UsageError(f"--disparities {max_disparity} * --png-scale {png_scale:g} exceeds "
                              f"{_PNG_MAX}, the largest 16-bit value; lower --png-scale")
         outputs.append(png)
-    resolved = [path.resolve() for path in (*inputs, *outputs)]
-    if len(set(resolved)) != len(resolved):
-        raise UsageError("the inputs and outputs must be different files")
     for path in outputs:
-        if not path.resolve().parent.is_dir():
-            raise UsageError("the output folder does not exist", path=path)
+        output_folder_exists(path.parent)
+        check_output(path)
     return outputs
 
 

@@ -27,6 +27,7 @@ from mvtools.errors import ConfigError, DataError, UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import DepthCoding, depth_sign, facing_camera
 from mvtools.io.config import COMMAND_LINE, ConfigEntry, param_entry, resolve_output_path
+from mvtools.io.guard import check_output
 from mvtools.io.yuv import VideoReader, YuvFormat, frame_from_luma, open_video, open_writer
 from mvtools.params import VsrsParams
 from mvtools.synthesis import ReferenceView, SynthesisOptions
@@ -112,11 +113,14 @@ def command(config, overrides, data_dirs, extra_views, hole_filling, output_dept
     extra_outputs = {"depth": output_depth, "holes": output_holes}
     outputs = {"view": output, **{name: _command_line_output(f"--output-{name}", path)
                                   for name, path in extra_outputs.items() if path is not None}}
-    _check_distinct(outputs, references)
     size = (params.source_width, params.source_height)
     with contextlib.ExitStack() as stack:
         textures = [stack.enter_context(_open(ref.texture, size, ref.texture_key)) for ref in references]
         depths = [stack.enter_context(_open(ref.depth, size, ref.depth_key)) for ref in references]
+        # Every input is now open, so the run's guard knows it: an output that names
+        # one is refused before any work (two outputs of one name when they open).
+        for path in outputs.values():
+            check_output(path)
         texture_format = _texture_format(textures)
         frames = loaded.frame_range(textures + depths)
         codings = [_depth_coding(ref.depth_range, reader.format.bits, ref.depth_key,
@@ -307,20 +311,6 @@ def _output_path(loaded: LoadedConfig) -> Path:
 
 def _command_line_output(option: str, value: str) -> Path:
     return resolve_output_path(ConfigEntry(option, value, COMMAND_LINE, None))
-
-
-def _check_distinct(outputs: dict[str, Path], references: list[_Reference]) -> None:
-    """No output may overwrite an input or another output."""
-    inputs = {path.resolve() for ref in references for path in (ref.texture, ref.depth)}
-    seen: dict[Path, str] = {}
-    for name, path in outputs.items():
-        resolved = path.resolve()
-        if resolved in inputs:
-            raise UsageError("the output would overwrite an input", path=path)
-        if resolved in seen:
-            raise UsageError(f"the {name} output and the {seen[resolved]} output are the same file",
-                             path=path)
-        seen[resolved] = name
 
 
 def _open(path: Path, size: tuple[int, int], key: str) -> VideoReader:
