@@ -348,6 +348,11 @@ DEPTH_METHODS = ("sgm", "bp", "graphcut", "local", "patchmatch")
 #: Depth labels of an 8-bit depth map.
 _MAX_DEPTH_LABELS = 256
 
+#: DepthEstimationMode values that DERS has and mvtools does not, for the message.
+_UNSUPPORTED_DEPTH_MODES = {1: "semi-automatic, with manual input",
+                            2: "semi-automatic, with manual input",
+                            3: "from a reference depth"}
+
 
 @dataclass(frozen=True, kw_only=True)
 class DersParams(_ProgramParams):
@@ -521,13 +526,12 @@ class DersParams(_ProgramParams):
                              "opposite signs: the search would put the scene on the other "
                              "side of the cameras")
         mode = self.depth_estimation_mode
-        needed = ({"FileCenterManual": self.file_center_manual} if mode in (1, 2) else
-                  {"RefDepthCameraName": self.ref_depth_camera_name,
-                   "RefDepthFile": self.ref_depth_file} if mode == 3 else {})
-        missing = [key for key, value in needed.items() if not value]
-        if missing:
-            raise ParamError(("DepthEstimationMode", *missing),
-                             f"mode {mode} needs {' and '.join(missing)}")
+        if mode != 0:
+            # The keys of modes 1 to 3 are read, so that DERS's files load unmodified,
+            # but nothing here uses them: asking for their files would mislead.
+            raise ParamError("DepthEstimationMode",
+                             f"mode {mode} ({_UNSUPPORTED_DEPTH_MODES[mode]}) is not "
+                             "supported; mvtools estimates depth with mode 0 (automatic)")
 
     @property
     def depth_range(self) -> tuple[float, float] | None:
