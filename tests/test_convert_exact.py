@@ -61,6 +61,17 @@ def test_raw_to_y4m_and_back_is_byte_identical(tmp_path, pix_fmt):
     assert (tmp_path / "copy.yuv").read_bytes() == source.read_bytes()
 
 
+def test_y4m_to_y4m_keeps_every_byte_and_the_frame_rate(tmp_path):
+    fmt = _random_video(tmp_path / "planes.yuv", "yuv420p")
+    data = (tmp_path / "planes.yuv").read_bytes()
+    header = f"YUV4MPEG2 W{WIDTH} H{HEIGHT} F30000:1001 Ip A1:1 C420jpeg XYSCSS=420JPEG\n"
+    frames = [data[i:i + fmt.frame_bytes] for i in range(0, len(data), fmt.frame_bytes)]
+    source = header.encode("ascii") + b"".join(b"FRAME\n" + frame for frame in frames)
+    (tmp_path / "in.y4m").write_bytes(source)
+    _convert(tmp_path / "in.y4m", "-o", tmp_path / "out.y4m")
+    assert (tmp_path / "out.y4m").read_bytes() == source
+
+
 @needs_ffmpeg
 @pytest.mark.parametrize("pix_fmt", ["yuv420p", "yuv422p", "yuv420p10le"])
 def test_y4m_to_raw_is_ffmpegs_rawvideo(tmp_path, pix_fmt):

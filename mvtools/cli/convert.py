@@ -209,7 +209,7 @@ def _video_to_video(path, size, pix_fmt, start, count, output, out_pix_fmt, dept
             if out_pix_fmt else source
         frames = frame_range([video], start, count)
         progress = Progress(len(frames), "frames converted")
-        with open_writer(output, target) as writer:
+        with open_writer(output, target, frame_rate=video.frame_rate) as writer:
             for index in frames:
                 with _samples_of(path, index):
                     planes = convert_planes(video.read(index), bits=source.bits,

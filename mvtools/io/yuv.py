@@ -36,8 +36,8 @@ from mvtools.io.atomic import atomic_output
 from mvtools.io.guard import note_input
 
 __all__ = [
-    "CHROMA_FORMATS", "BIT_DEPTHS", "SUPPORTED_PIX_FMTS", "YuvFormat", "format_from_name",
-    "guess_format", "open_video", "open_writer", "read_frame", "write_video",
+    "CHROMA_FORMATS", "BIT_DEPTHS", "DEFAULT_FRAME_RATE", "SUPPORTED_PIX_FMTS", "YuvFormat",
+    "format_from_name", "guess_format", "open_video", "open_writer", "read_frame", "write_video",
     "frame_from_luma", "VideoReader", "RawVideoReader", "Y4mReader", "VideoWriter",
 ]
 
@@ -349,8 +349,11 @@ class VideoReader:
     """Frames of a planar video file, memory-mapped one at a time.
 
     Use :func:`open_video`. ``path``, ``format`` and ``num_frames`` are known
-    before any pixel is read.
+    before any pixel is read, and ``frame_rate``: a Y4M header's, None for raw video,
+    which carries none.
     """
+
+    frame_rate: Fraction | None = None
 
     def __init__(self, path: Path, fmt: YuvFormat, handle, num_frames: int):
         self.path = path
@@ -648,6 +651,10 @@ def read_frame(path: str | os.PathLike, fmt: YuvFormat | None = None, index: int
 
 # --------------------------------------------------------------------------- writers
 
+#: Frames a second written into a Y4M header when the source tells none.
+DEFAULT_FRAME_RATE = 25
+
+
 class VideoWriter:
     """Writes frames to a raw YUV or Y4M file, atomically. Use :func:`open_writer`.
 
@@ -657,7 +664,7 @@ class VideoWriter:
     """
 
     def __init__(self, path: str | os.PathLike, fmt: YuvFormat, *, y4m: bool,
-                 frame_rate: Fraction | int | str = 25):
+                 frame_rate: Fraction | int | str | None = None):
         self.path = Path(path)
         self.format = fmt
         self.num_frames = 0
@@ -665,7 +672,7 @@ class VideoWriter:
         self._stack = contextlib.ExitStack()
         self._file = self._stack.enter_context(atomic_output(self.path, "wb"))
         if y4m:
-            rate = Fraction(frame_rate)
+            rate = Fraction(DEFAULT_FRAME_RATE if frame_rate is None else frame_rate)
             self._file.write(f"YUV4MPEG2 W{fmt.width} H{fmt.height} F{rate.numerator}:{rate.denominator} "
                              f"Ip A1:1 {_y4m_colorspace(fmt)}\n".encode("ascii"))
 
@@ -739,10 +746,11 @@ class _Aborted(Exception):
 
 
 def open_writer(path: str | os.PathLike, fmt: YuvFormat, *,
-                frame_rate: Fraction | int | str = 25) -> VideoWriter:
+                frame_rate: Fraction | int | str | None = None) -> VideoWriter:
     """Open a raw YUV (any extension but ``.y4m``) or Y4M file for writing.
 
-    ``frame_rate`` (Y4M only) is a number or ``"30000/1001"``. The Y4M header is
+    ``frame_rate`` (Y4M only) is a number or ``"30000/1001"``; None (a source that
+    carries none, such as raw video) is :data:`DEFAULT_FRAME_RATE`. The Y4M header is
     ffmpeg's: ``C420jpeg`` for 8-bit 4:2:0, ``C444``, ``Cmono``, ``C420p10``,
     ``Cmono16`` ...
     """
@@ -750,7 +758,7 @@ def open_writer(path: str | os.PathLike, fmt: YuvFormat, *,
 
 
 def write_video(path: str | os.PathLike, fmt: YuvFormat, frames: Iterable[Sequence[np.ndarray]], *,
-                frame_rate: Fraction | int | str = 25) -> int:
+                frame_rate: Fraction | int | str | None = None) -> int:
     """Write all ``frames`` (each a tuple of planes) to ``path``; returns the count."""
     with open_writer(path, fmt, frame_rate=frame_rate) as writer:
         for planes in frames:
