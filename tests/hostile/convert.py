@@ -92,6 +92,8 @@ CASES = [
          r"v.y4m: the output would overwrite an input", y4m("v.y4m")),
     Case("convert onto its input spelled another way", ("convert", VIDEO, "-o", f"./{VIDEO}"), 2,
          r"the output would overwrite an input", VIDEO_FILE),
+    Case("convert a camera file onto itself", ("convert", "cameras.json", "-o", "cameras.json"),
+         2, r"cameras.json: the output would overwrite an input", copy_sample("cameras.json")),
     Case("convert to images in a missing folder", ("convert", VIDEO, "-o", "nowhere/f_%03d.png"),
          2, r"nowhere: the output folder does not exist", VIDEO_FILE),
     Case("convert a Y4M into a missing folder", ("convert", "v.y4m", "-o", "no/where/o.yuv"), 2,
