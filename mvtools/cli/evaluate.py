@@ -202,8 +202,13 @@ def _evaluate_disparity(gt_path: Path, disparity_path: Path, gt_scale, disparity
         other_gt = root / known_set.right_ground_truth if known_set.right_ground_truth else None
     nonoccluded = nonoccluded_pixels(ground_truth, known, scale=gt_scale, mask_path=nonocc_mask,
                                      other_view_path=other_gt)
-    score = score_disparity(estimate, ground_truth, known=known, nonoccluded=nonoccluded,
-                            thresholds=thresholds)
+    try:
+        score = score_disparity(estimate, ground_truth, known=known, nonoccluded=nonoccluded,
+                                thresholds=thresholds)
+    # the thresholds were checked: what is left is the ground truth's fault (no known
+    # pixel, none non-occluded), a data error
+    except ValueError as error:
+        raise DataError(str(error), path=gt_path) from None
     histogram = error_histogram(estimate, ground_truth, known=known)
     return {
         "ground_truth": str(gt_path), "disparity": str(disparity_path), "gt_scale": gt_scale,
@@ -276,17 +281,21 @@ def _focal_and_baseline(cameras, camera: str | None, neighbour: str | None) -> t
     if not baseline > 0:
         raise ConfigError(f"cameras {camera!r} and {neighbour!r} are at the same place",
                           path=cameras)
-    return float(rig[camera].K[0, 0]), baseline
+    focal = float(rig[camera].K[0, 0])
+    if not focal > 0:
+        raise ConfigError(f"camera {camera!r} has fx {focal:g}: disparities need a positive "
+                          "focal length", path=cameras)
+    return focal, baseline
 
 
 def _depth_range(video: str, given, option: str) -> tuple[float, float]:
     """Znear, Zfar given on the command line, or else from the video's JSON sidecar."""
     if given is not None:
         try:
-            check_depth_range(float(given[0]), float(given[1]))
+            check_depth_range(*given)
         except ValueError as error:
             raise UsageError(str(error), key=option) from None
-        return float(given[0]), float(given[1])
+        return tuple(given)
     sidecar = Path(str(video) + ".json")
     if not sidecar.exists():
         raise UsageError(f"the depth range is unknown: give {option} ZNEAR ZFAR (no {sidecar})",

@@ -23,6 +23,8 @@ def _pgm(width: int, height: int, offset: int = 0) -> bytes:
     return f"P5\n{width} {height}\n255\n".encode() + values
 
 
+#: A map of 0 everywhere: as ground truth no pixel known, as a mask none non-occluded.
+UNKNOWN = b"P5\n64 48\n255\n" + bytes(64 * 48)
 MAPS = together(write("gt.pgm", _pgm(64, 48)), write("estimate.pgm", _pgm(64, 48, 1)),
                 write("small.pgm", _pgm(64, 40)))
 DISPARITY = ("evaluate", "--disparity", "gt.pgm", "estimate.pgm", "--gt-scale", "1")
@@ -113,6 +115,13 @@ CASES = [
     Case("evaluate --disparity of a file that is no image",
          ("evaluate", "--disparity", "gt.pgm", "notes.png", "--gt-scale", "1"), 1,
          r"notes.png: cannot decode the image", together(MAPS, write("notes.png", "notes\n"))),
+    Case("evaluate --disparity against a ground truth without a known pixel",
+         ("evaluate", "--disparity", "zero.pgm", "estimate.pgm", "--gt-scale", "1"), 1,
+         r"zero.pgm: no pixel has known ground truth",
+         together(MAPS, write("zero.pgm", UNKNOWN))),
+    Case("evaluate --disparity --nonocc of no non-occluded pixel",
+         (*DISPARITY, "--nonocc", "zero.pgm"), 1, r"gt.pgm: no known pixel is non-occluded",
+         together(MAPS, write("zero.pgm", UNKNOWN))),
     Case("evaluate --disparity --nonocc missing", (*DISPARITY, "--nonocc", "occl.png"), 2,
          r"occl.png", MAPS),
     Case("evaluate --disparity, a good run", (*DISPARITY, "--json-file", "d.errors.json"), 0,
@@ -133,6 +142,10 @@ CASES = [
     Case("evaluate --depth --camera and --neighbour alike",
          (*DEPTH[:-4], "--neighbour", "cam1", *RANGES), 2,
          r"cameras.txt: cameras 'cam1' and 'cam1' are at the same place", DEPTHS),
+    Case("evaluate --depth, a camera of a negative focal length",
+         (*DEPTH, *RANGES), 2, r"cameras.txt: camera 'cam1' has fx -240",
+         together(DEPTHS, lambda target: (target / "cameras.txt").write_text(
+             (target / "cameras.txt").read_text().replace("cam1\n240.0", "cam1\n-240.0")))),
     Case("evaluate --depth without a range or a sidecar", DEPTH, 2,
          rf"{TRUTH}: the depth range is unknown: give --reference-range", DEPTHS),
     Case("evaluate --depth, a sidecar that is not JSON", (*DEPTH, "--test-range", "2", "13"), 2,
