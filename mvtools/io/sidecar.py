@@ -16,9 +16,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath, PureWindowsPath
 
-from mvtools.errors import ConfigError
+from mvtools.errors import ConfigError, UsageError
 from mvtools.io.atomic import atomic_output
 from mvtools.io.files import read_json
+from mvtools.io.yuv import YuvFormat
 from mvtools.pack.layout import KINDS, LAYOUTS, Layout, Placement
 
 __all__ = ["PackedVideo", "read_sidecar", "repeated_file", "sidecar_path",
@@ -98,6 +99,14 @@ def repeated_file(files: Mapping[tuple[str, str], str]
     return None
 
 
+def _pixel_format(pix_fmt: str, path: Path, where: str) -> YuvFormat:
+    """The format a sidecar's ``pix_fmt`` names, or a ConfigError naming the sidecar."""
+    try:
+        return YuvFormat.from_pix_fmt(2, 2, pix_fmt)
+    except UsageError as error:
+        raise ConfigError(f"{where}: {error.message}", path=path, key="pix_fmt") from None
+
+
 def _check_source_size(placement: Placement, path: Path) -> None:
     """A view's own size must be positive and what its decimation makes of it must be
     its size in the frame, or unpacking would hand the writer planes of another shape."""
@@ -122,8 +131,9 @@ def read_sidecar(path: str | os.PathLike) -> PackedVideo:
     ------
     ConfigError
         Not JSON, not an mvtools pack sidecar, a missing or mistyped field, views
-        that overlap or leave the frame, a view whose own size does not give its size
-        in the frame, or a view file that is not a bare file name or is another view's
+        that overlap or leave the frame or are listed twice, a view whose own size does
+        not give its size in the frame, an unknown pixel format or one the packed frames
+        cannot hold, or a view file that is not a bare file name or is another view's
         too (naming the view and the field).
     """
     path = Path(path)
@@ -141,6 +151,7 @@ def read_sidecar(path: str | os.PathLike) -> PackedVideo:
     width = _field(document, "width", int, path, "the sidecar")
     height = _field(document, "height", int, path, "the sidecar")
     pix_fmt = _field(document, "pix_fmt", str, path, "the sidecar")
+    packed_format = _pixel_format(pix_fmt, path, "the sidecar")
     frames = _field(document, "frames", int, path, "the sidecar")
     entries = document.get("views")
     if not isinstance(entries, list) or not entries:
@@ -157,6 +168,8 @@ def read_sidecar(path: str | os.PathLike) -> PackedVideo:
         if view_kind not in KINDS:
             raise ConfigError(f"view {name}: kind {view_kind!r} is not one of "
                               f"{', '.join(KINDS)}", path=path, key="kind")
+        if (name, view_kind) in files:
+            raise ConfigError(f"{view_kind} {name} is listed twice", path=path, key="name")
         decimation = entry.get("decimation", [1, 1])
         if (not isinstance(decimation, list) or len(decimation) != 2
                 or any(factor not in (1, 2) for factor in decimation)):
@@ -187,7 +200,16 @@ def read_sidecar(path: str | os.PathLike) -> PackedVideo:
             first, second = (view for view, _ in repeated)
             raise ConfigError(f"views {first} and {second} both name {file!r}: one would "
                               "overwrite the other", path=path, key="file")
-        pix_fmts[(name, view_kind)] = _field(entry, "pix_fmt", str, path, f"view {name}")
+        view_pix_fmt = _field(entry, "pix_fmt", str, path, f"view {name}")
+        view_format = _pixel_format(view_pix_fmt, path, f"view {name}")
+        # what pack writes, and what unpacking can restore: the packed frames' samples,
+        # with their chroma or none (a depth map's luma)
+        if (view_format.bits != packed_format.bits
+                or view_format.chroma not in (packed_format.chroma, "400")):
+            raise ConfigError(f"view {name}: pix_fmt {view_pix_fmt} does not fit the packed "
+                              f"{pix_fmt} frames: a view has their bit depth, and their chroma "
+                              "or none", path=path, key="pix_fmt")
+        pix_fmts[(name, view_kind)] = view_pix_fmt
     layout = Layout(kind=kind, width=width, height=height, placements=tuple(placements))
     return PackedVideo(layout=layout, pix_fmt=pix_fmt, frames=frames, files=files,
                        pix_fmts=pix_fmts)
