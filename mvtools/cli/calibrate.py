@@ -16,9 +16,10 @@ from mvtools.cli.inputs import open_input_video
 from mvtools.cli.options import ProgramCommand, program, video_format_options
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
-from mvtools.io.atomic import atomic_output
+from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.cameras import write_cameras
 from mvtools.io.captures import open_captures
+from mvtools.io.guard import check_output
 from mvtools.io.images import write_image
 from mvtools.io.json_cameras import write_json_cameras
 from mvtools.scene.render import distort_normalized
@@ -83,6 +84,7 @@ def command(captures, inner_corners, square_size, output, json_output, report_di
     sources = [open_captures(spec, lambda path: open_input_video(path, size, pix_fmt))
                for spec in captures]
     try:
+        _check_outputs(output, json_output)
         camera_names = _camera_names(sources, names)
         reference_index = _reference_index(camera_names, reference)
         board = Board(inner_corners=inner_corners, square_size=square_size)
@@ -101,6 +103,23 @@ def command(captures, inner_corners, square_size, output, json_output, report_di
     if report_dir is not None:
         _write_report(Path(report_dir), result, where, image_points, first_images)
     click.echo(_summary(result))
+
+
+def _check_outputs(output: str, json_output: str | None) -> None:
+    """Refuse the camera files before the captures are searched, not after the long
+    calibration: a missing folder, an output that names a capture (every capture is
+    noted as an input when its source opens), or one file for both outputs."""
+    named = [(output, "camera file (-o)")]
+    if json_output is not None:
+        named.append((json_output, "JSON camera file (--json)"))
+    for path, what in named:
+        output_folder_exists(Path(path).parent)
+        check_output(path, what)
+    # the guard refuses the second of two outputs with one name only when it is opened,
+    # after the calibration: compare the two here
+    if json_output is not None and Path(json_output).resolve() == Path(output).resolve():
+        raise UsageError("--json names the -o file: give each output its own name",
+                         path=json_output)
 
 
 def _camera_names(sources, names: str | None) -> list[str]:

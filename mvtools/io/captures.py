@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from mvtools.errors import DataError, UsageError
+from mvtools.io.guard import note_input
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image
 from mvtools.io.yuv import VideoReader
 
@@ -41,6 +42,10 @@ class CaptureSource:
         self.labels = labels
         self._files = files
         self._video = video
+        # noted now, not when each is read: a program checks its outputs against every
+        # capture before the long search through them
+        for file in files or ():
+            note_input(file)
 
     def __len__(self) -> int:
         return len(self.labels)
