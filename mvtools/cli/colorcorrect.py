@@ -25,6 +25,7 @@ from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import DepthCoding, facing_camera
 from mvtools.io.cameras import get_camera
 from mvtools.io.color_charts import DEFAULT_CHART, read_colorchecker
+from mvtools.io.guard import check_output
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.luts import write_cube, write_lut, write_matrix
@@ -98,11 +99,14 @@ def command(views, reference, target, chart_reference, chart_name, chart_corners
     if len(set(names)) != len(names):
         raise UsageError(f"a view is given twice ({', '.join(names)})")
     out = Path(out_dir)
-    targets = {name: out / Path(path).name for name, path in views}
+    targets = {}
     for name, path in views:
-        if targets[name].resolve() == Path(path).resolve():
-            raise UsageError("the output would overwrite the input: choose another --out-dir",
-                             path=path)
+        for other, corrected in targets.items():
+            if corrected.name == Path(path).name:
+                raise UsageError(f"--view {name}: the same file name as --view {other}: their "
+                                 "corrected videos would share one name in -o; rename one",
+                                 path=path)
+        targets[name] = out / Path(path).name
     if target == "chart":
         _correct_to_chart(views, targets, chart_reference, chart_name, dict(chart_corners),
                           chart_model, space, estimate_frames, estimate_from, size, pix_fmt,
@@ -130,6 +134,7 @@ def command(views, reference, target, chart_reference, chart_name, chart_corners
         fmt = _common_format(videos, names)
         depth_videos = {name: stack.enter_context(open_input_video(path, size, pix_fmt))
                         for name, path in depth_of.items()}
+        _check_outputs(targets, "video", _TABLES)
         frames = frame_range(videos + list(depth_videos.values()), start_frame, frame_count)
         estimation = _estimation_frames(videos, frames, estimate_from, estimate_frames)
         matcher = _Matcher(names, reference_index, cameras, depth_videos, depth_range, fmt,
@@ -143,9 +148,10 @@ def command(views, reference, target, chart_reference, chart_name, chart_corners
                           for table in tables])
         channels = channel_names(space, len(fmt.plane_shapes))
         for name, table in zip(names, tables):
-            write_lut(out / f"{name}.lut.txt", table, channels=channels)
+            write_lut(_table_file(targets, name, ".lut.txt"), table, channels=channels)
             if len(channels) == 3:
-                write_cube(out / f"{name}.cube", table, max_value=2 ** fmt.bits - 1,
+                write_cube(_table_file(targets, name, ".cube"), table,
+                           max_value=2 ** fmt.bits - 1,
                            title=f"mvtools colorcorrect {name} ({space})")
         click.echo(matcher.summary(videos, tables, estimation[0]))
 
@@ -159,6 +165,7 @@ def _correct_images(views, targets, reference_index, target) -> None:
             raise DataError(f"view {name} is not an 8-bit colour picture ({picture.dtype}, "
                             f"shape {picture.shape})", path=path)
         _check_not_constant(picture, name, path)
+    _check_outputs(targets, "picture", _TABLES)
     reference = pictures[reference_index].reshape(-1, 3)
     samples = [None if index == reference_index else (picture.reshape(-1, 3), reference)
                for index, picture in enumerate(pictures)]
@@ -168,13 +175,32 @@ def _correct_images(views, targets, reference_index, target) -> None:
     for (name, _), picture, table in zip(views, pictures, tables):
         corrected = np.stack([apply_lut(picture[..., c], table[c]) for c in range(3)], axis=-1)
         write_image(targets[name], corrected)
-        write_lut(targets[name].parent / f"{name}.lut.txt", table, channels=("R", "G", "B"))
-        write_cube(targets[name].parent / f"{name}.cube", table, max_value=255,
+        write_lut(_table_file(targets, name, ".lut.txt"), table, channels=("R", "G", "B"))
+        write_cube(_table_file(targets, name, ".cube"), table, max_value=255,
                    title=f"mvtools colorcorrect {name} (rgb)")
         before, after = (float(np.abs(image.reshape(-1, 3).mean(0) - reference.mean(0)).mean())
                          for image in (picture, corrected))
         lines.append(f"{name:12s} {'':>33s}{before:7.2f} {after:7.2f}")
     click.echo("\n".join(lines))
+
+
+#: The tables written for each view: by every target, and by --target chart.
+_TABLES = (".lut.txt", ".cube")
+_CHART_TABLES = (".lut.txt", ".ccm.txt", ".cube")
+
+
+def _table_file(targets: dict[str, Path], name: str, suffix: str) -> Path:
+    """Where view ``name``'s table ``suffix`` goes: beside its corrected video."""
+    return targets[name].parent / f"{name}{suffix}"
+
+
+def _check_outputs(targets: dict[str, Path], what: str, tables: tuple[str, ...]) -> None:
+    """Every output against the inputs, once they are all open: the corrected views and
+    the tables are written only after the tables' estimation."""
+    for name, target in targets.items():
+        check_output(target, f"corrected {what} of {name} (in -o, under its input's name)")
+        for suffix in tables:
+            check_output(_table_file(targets, name, suffix), f"table of {name}")
 
 
 def _estimation_frames(videos, frames: range, start: int | None, count: int) -> range:
@@ -228,6 +254,7 @@ def _correct_to_chart(views, targets, chart_reference, chart_name, corners_of, m
         fmt = _common_format(videos, names)
         if fmt.chroma == "400":
             raise DataError(f"{videos[0].path}: a chart needs colour views, not grey ones")
+        _check_outputs(targets, "video", _CHART_TABLES)
         frames = frame_range(videos, start_frame, frame_count)
         estimation = _estimation_frames(videos, frames, estimate_from, estimate_frames)
         top = 2 ** fmt.bits - 1
@@ -257,14 +284,15 @@ def _correct_to_chart(views, targets, chart_reference, chart_name, corners_of, m
                              np.round(correction.apply(yuv_to_rgb(planes, bits=fmt.bits) / top)
                                       * top).astype(fmt.dtype), chroma=fmt.chroma, bits=fmt.bits)
                           for correction in corrections])
-    out = next(iter(targets.values())).parent
     grid = np.linspace(0.0, 1.0, 33)
     blue, green, red = np.meshgrid(grid, grid, grid, indexing="ij")
     for name, correction in zip(names, corrections):
-        write_lut(out / f"{name}.lut.txt", correction.curve * top, channels=("R", "G", "B"))
-        write_matrix(out / f"{name}.ccm.txt", correction.matrix)
-        write_cube(out / f"{name}.cube", correction.apply(np.stack([red, green, blue], -1)),
-                   max_value=1.0, title=f"mvtools colorcorrect {name} (chart)")
+        write_lut(_table_file(targets, name, ".lut.txt"), correction.curve * top,
+                  channels=("R", "G", "B"))
+        write_matrix(_table_file(targets, name, ".ccm.txt"), correction.matrix)
+        write_cube(_table_file(targets, name, ".cube"),
+                   correction.apply(np.stack([red, green, blue], -1)), max_value=1.0,
+                   title=f"mvtools colorcorrect {name} (chart)")
     click.echo("\n".join(lines))
 
 

@@ -63,11 +63,28 @@ class ColorChart:
         return xy_to_xyz(self.white_xy)
 
 
+# The shapes of a CCS_COLOURCHECKERS file's charts and patches, for messages.
+_CHART_SHAPE = "an object of illuminant_xy [x, y], rows, columns and patches"
+_PATCH_SHAPE = "an object of XYZ [X, Y, Z] and Lab_under_chart_illuminant [L, a, b]"
+
+
+def _kind(value) -> str:
+    """What a JSON value is, for a message: an object by its first keys."""
+    if isinstance(value, dict):
+        if not value:
+            return "an empty object"
+        more = ", ..." if len(value) > 4 else ""
+        return f"an object of {', '.join(repr(key) for key in list(value)[:4])}{more}"
+    if isinstance(value, list):
+        return "a list"
+    return "text" if isinstance(value, str) else json.dumps(value)
+
+
 def _count(entry: dict, field: str, *, path: Path, key: str) -> int:
     value = entry.get(field)
     if not isinstance(value, int) or isinstance(value, bool) or value < 1:
-        raise ConfigError(f"{field} must be a positive integer, got {json.dumps(value)}",
-                          path=path, key=key)
+        shown = "missing" if field not in entry else f"got {json.dumps(value)}"
+        raise ConfigError(f"{field} must be a positive integer, {shown}", path=path, key=key)
     return value
 
 
@@ -95,11 +112,17 @@ def read_colorchecker(path: str | os.PathLike, *, chart: str = DEFAULT_CHART) ->
     path = Path(path)
     document = read_json(path, "colour chart file")
     if not isinstance(document, dict):
-        raise ConfigError("expected an object of charts by name", path=path)
-    entry = document.get(chart)
-    if not isinstance(entry, dict):
+        raise ConfigError("expected an object of charts by name (colour-science's "
+                          f"CCS_COLOURCHECKERS), got {_kind(document)}", path=path)
+    if chart not in document:
         names = ", ".join(repr(name) for name in document) or "none"
         raise ConfigError(f"no chart {chart!r} in the file (charts: {names})", path=path)
+    entry = document[chart]
+    if not isinstance(entry, dict) or not {"illuminant_xy", "rows", "columns",
+                                           "patches"} & set(entry):
+        # a list, or colour-science's other file: spectral distributions by patch name
+        raise ConfigError(f"the chart must be {_CHART_SHAPE}, got {_kind(entry)}", path=path,
+                          key=chart)
     columns = _count(entry, "columns", path=path, key=chart)
     rows = _count(entry, "rows", path=path, key=chart)
     white_x, white_y = json_numbers(entry, "illuminant_xy", 2, path=path, key=chart)
@@ -107,15 +130,19 @@ def read_colorchecker(path: str | os.PathLike, *, chart: str = DEFAULT_CHART) ->
         raise ConfigError(f"illuminant_xy must have y > 0, got {[white_x, white_y]}",
                           path=path, key=chart)
     patches = entry.get("patches")
-    if not isinstance(patches, dict) or len(patches) != columns * rows:
-        found = len(patches) if isinstance(patches, dict) else "no object of"
-        raise ConfigError(f"patches must be an object of {columns} x {rows} = {columns * rows} "
-                          f"patches, got {found} patches", path=path, key=chart)
+    if not isinstance(patches, dict):
+        raise ConfigError(f"must be an object of patch name to {_PATCH_SHAPE}, in chart "
+                          f"order, got {_kind(patches) if 'patches' in entry else 'nothing'}",
+                          path=path, key=f"{chart}: patches")
+    if len(patches) != columns * rows:
+        raise ConfigError(f"columns x rows = {columns} x {rows} = {columns * rows} patches, "
+                          f"got {len(patches)}", path=path, key=f"{chart}: patches")
     xyz, lab = [], []
     for name, patch in patches.items():
         key = f"{chart}: {name}"
         if not isinstance(patch, dict):
-            raise ConfigError("a patch must be an object", path=path, key=key)
+            raise ConfigError(f"a patch must be {_PATCH_SHAPE}, got {_kind(patch)}",
+                              path=path, key=key)
         xyz.append(json_numbers(patch, "XYZ", 3, path=path, key=key))
         lab.append(json_numbers(patch, "Lab_under_chart_illuminant", 3, path=path, key=key))
     return ColorChart(name=chart, patch_names=tuple(patches), layout=(columns, rows),
