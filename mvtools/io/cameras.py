@@ -199,7 +199,10 @@ def read_cameras(path: str | os.PathLike, *, transposed_rotation: bool = False
     path = Path(path)
     cameras: dict[str, Camera] = {}
     lines: dict[str, int] = {}
-    for name, numbers in _blocks(_tokens(read_text(path, "camera parameter file")), path):
+    # Every block is parsed before any camera is judged: a damaged file (a block cut
+    # short) is reported as such, wherever the damage is.
+    blocks = list(_blocks(_tokens(read_text(path, "camera parameter file")), path))
+    for name, numbers in blocks:
         rotation_translation = np.array(numbers[11:]).reshape(3, 4)
         rotation = rotation_translation[:, :3]
         camera = Camera(name=name.text, K=numbers[:9],
