@@ -314,8 +314,8 @@ def test_consistency_between_keys(tmp_path):
     with pytest.raises(ConfigError, match=r"test.cfg:1: MaximumValueOfDisparityRange: .*"
                                           r"gives 401 depth values"):
         load_text(tmp_path, "MaximumValueOfDisparityRange 200\n", DersParams)
-    with pytest.raises(ConfigError, match=r"test.cfg:2: DepthEstimationMode: mode 3 needs "
-                                          r"RefDepthFile$"):
+    with pytest.raises(ConfigError, match=r"test.cfg:2: DepthEstimationMode: mode 3 \(from a "
+                                          r"reference depth\) is not supported"):
         load_text(tmp_path, "RefDepthCameraName cam0\nDepthEstimationMode 3\n", DersParams)
 
 
@@ -427,8 +427,8 @@ def test_output_path(tmp_path, monkeypatch):
     (tmp_path / "out").mkdir()
     assert resolve_output_path(ConfigEntry("FileOutputDepthMapImage", "out\\d.yuv", "x.cfg", 3)
                                ) == Path("out", "d.yuv")
-    with pytest.raises(UsageError, match=r"^x.cfg:3: OutputVirtualViewImageName: output folder "
-                                         r"'absent' does not exist"):
+    with pytest.raises(UsageError, match=r"^x.cfg:3: OutputVirtualViewImageName: absent: the "
+                                         r"output folder does not exist$"):
         resolve_output_path(ConfigEntry("OutputVirtualViewImageName", "absent\\v.yuv", "x.cfg", 3))
     with pytest.raises(UsageError, match="Windows drive path"):
         resolve_output_path(ConfigEntry("OutputVirtualViewImageName", "I:\\v.yuv", "x.cfg", 3))

@@ -203,7 +203,7 @@ def test_output_must_be_pfm_and_not_an_input(tmp_path, pair, known_estimate):
     code, _, err = invoke("--left", pair[0], "--right", pair[1], "--disparities", 16,
                           "-o", tmp_path / "d.pfm", "--png", pair[0])
     assert code == 2
-    assert_one_line_error(err, "different files")
+    assert_one_line_error(err, "would overwrite an input")
     assert not (tmp_path / "d.pfm").exists()
 
 

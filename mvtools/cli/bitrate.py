@@ -2,27 +2,21 @@
 
 from __future__ import annotations
 
-import math
-
 import click
 
-from mvtools.cli.options import ProgramCommand, parse_size, program
-from mvtools.pack.bitrate import CHROMA_SAMPLES, HD_BITRATES, compressed_bitrate, raw_bitrate
-
-
-def _finite(ctx: click.Context, param: click.Parameter, value: float) -> float:
-    """The option's value unless it is NaN or infinite, which click's range lets through
-    (every comparison with NaN is false)."""
-    if not math.isfinite(value):
-        raise click.BadParameter(f"{value:g} is not a frame rate")
-    return value
+from mvtools.cli.options import POSITIVE, ProgramCommand, parse_size, program
+from mvtools.pack.bitrate import (
+    CHROMA_SAMPLES,
+    HD_BITRATES,
+    compressed_bitrate,
+    raw_bitrate,
+)
 
 
 @click.command(name="bitrate", cls=ProgramCommand)
 @click.option("--size", callback=parse_size, required=True, metavar="WxH",
               help="Picture size of a view, e.g. 1920x1080.")
-@click.option("--fps", type=click.FloatRange(min=0, min_open=True), required=True,
-              callback=_finite, help="Frames per second.")
+@click.option("--fps", type=POSITIVE, required=True, help="Frames per second.")
 @click.option("--views", type=click.IntRange(min=1), default=1, show_default=True,
               help="Number of cameras (views).")
 @click.option("--bits", type=click.IntRange(8, 16), default=8, show_default=True,

@@ -11,18 +11,37 @@ import click
 import numpy as np
 
 from mvtools.cli.inputs import frame_range, open_input_video
-from mvtools.cli.options import (ProgramCommand, frame_range_options, program,
-                                  transposed_rotation_option, video_format_options)
+from mvtools.cli.options import (
+    DEPTH,
+    FINITE,
+    POSITIVE,
+    ProgramCommand,
+    frame_range_options,
+    program,
+    transposed_rotation_option,
+    video_format_options,
+)
 from mvtools.cli.progress import Progress
 from mvtools.color.levels import convert_planes, depth_preview, requantize
 from mvtools.color.space import rgb_to_yuv, yuv_to_rgb
 from mvtools.errors import DataError, UsageError
-from mvtools.geometry.depth import (check_depth_range, depth_sign, depth_to_z, disparity_to_z,
-                                    z_to_depth, z_to_disparity)
+from mvtools.geometry.depth import (
+    check_depth_range,
+    depth_sign,
+    depth_to_z,
+    disparity_to_z,
+    z_to_depth,
+    z_to_disparity,
+)
 from mvtools.io.cameras import read_cameras, write_cameras
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
-from mvtools.io.json_cameras import (DEFAULT_FPS, read_json_cameras, read_json_sequence,
-                                     write_json_cameras, write_json_sequence)
+from mvtools.io.json_cameras import (
+    DEFAULT_FPS,
+    read_json_cameras,
+    read_json_sequence,
+    write_json_cameras,
+    write_json_sequence,
+)
 from mvtools.io.yuv import YuvFormat, frame_from_luma, open_writer
 
 VIDEO_EXTENSIONS = (".yuv", ".y4m")
@@ -46,11 +65,11 @@ VIDEO_EXTENSIONS = (".yuv", ".y4m")
               help="Depth video -> PFM images of z, or of disparity (needs --focal, --baseline).")
 @click.option("--from", "from_quantity", type=click.Choice(["z", "disparity"]), default=None,
               help="PFM images of z or disparity -> depth video.")
-@click.option("--znear", type=float, default=None, help="Depth of the largest depth value.")
-@click.option("--zfar", type=float, default=None, help="Depth of depth value 0.")
-@click.option("--focal", type=float, default=None, help="Focal length in pixels (disparity).")
-@click.option("--baseline", type=float, default=None, help="Baseline, in the units of z (disparity).")
-@click.option("--fps", type=click.FloatRange(min=0, min_open=True), default=None,
+@click.option("--znear", type=DEPTH, default=None, help="Depth of the largest depth value.")
+@click.option("--zfar", type=DEPTH, default=None, help="Depth of depth value 0.")
+@click.option("--focal", type=FINITE, default=None, help="Focal length in pixels (disparity).")
+@click.option("--baseline", type=FINITE, default=None, help="Baseline, in the units of z (disparity).")
+@click.option("--fps", type=POSITIVE, default=None,
               help=f"Fps of MPEG-I JSON cameras (default: the input's, else {DEFAULT_FPS}).")
 @transposed_rotation_option
 @program

@@ -17,7 +17,13 @@ import numpy as np
 from mvtools.cli.configs import load_config
 from mvtools.cli.evaluate import score_videos
 from mvtools.cli.inputs import frame_range, open_input_video
-from mvtools.cli.options import ProgramCommand, frame_range_options, program, video_format_options
+from mvtools.cli.options import (
+    POSITIVE,
+    ProgramCommand,
+    frame_range_options,
+    program,
+    video_format_options,
+)
 from mvtools.cli.pack import write_packed, write_unpacked
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
@@ -52,7 +58,7 @@ _SYNTHESIS_INPUTS = {"left_camera_name": ("left_view_image_name", "left_depth_ma
               help="x265 (Debian package x265) or ffmpeg's libx265 (package ffmpeg); ffmpeg "
                    "decodes in both cases.")
 @click.option("--preset", default="medium", show_default=True, help="x265 preset.")
-@click.option("--fps", type=click.FloatRange(min=0, min_open=True), default=25.0,
+@click.option("--fps", type=POSITIVE, default=25.0,
               show_default=True, help="Frame rate, for the bitrates.")
 @click.option("--synthesize", "synthesis_config", type=click.Path(dir_okay=False), default=None,
               help="A VSRS configuration whose reference views are among the views: its "

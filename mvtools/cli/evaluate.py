@@ -13,7 +13,14 @@ import click
 import numpy as np
 
 from mvtools.cli.inputs import frame_range, open_input_video
-from mvtools.cli.options import ProgramCommand, frame_range_options, program, video_format_options
+from mvtools.cli.options import (
+    DEPTH,
+    FINITE,
+    ProgramCommand,
+    frame_range_options,
+    program,
+    video_format_options,
+)
 from mvtools.cli.progress import Progress
 from mvtools.datasets import nonoccluded_pixels
 from mvtools.errors import ConfigError, DataError, UsageError
@@ -25,8 +32,15 @@ from mvtools.io.images import read_image
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.middlebury import middlebury_set_for, read_ground_truth
 from mvtools.io.yuv import VideoReader
-from mvtools.metrics import (VIDEO_METRICS, ERROR_BIN_EDGES, check_thresholds, error_histogram,
-                             frame_scores, score_disparity)
+from mvtools.metrics import (
+    ERROR_BIN_EDGES,
+    VIDEO_METRICS,
+    check_thresholds,
+    error_histogram,
+    frame_scores,
+    score_disparity,
+)
+
 
 @click.command(name="evaluate", cls=ProgramCommand)
 @click.argument("reference", type=click.Path(dir_okay=False))
@@ -39,10 +53,10 @@ from mvtools.metrics import (VIDEO_METRICS, ERROR_BIN_EDGES, check_thresholds, e
 @click.option("--disparity", is_flag=True,
               help="Score TEST, a disparity map (PFM, or PNG/PGM divided by --disparity-scale), "
                    "against REFERENCE, a ground-truth disparity map.")
-@click.option("--gt-scale", type=float, default=None,
+@click.option("--gt-scale", type=FINITE, default=None,
               help="Ground-truth file value / scale = disparity in pixels (known for the "
                    "Middlebury sets, found from the file's path).")
-@click.option("--disparity-scale", type=float, default=1.0, show_default=True,
+@click.option("--disparity-scale", type=FINITE, default=1.0, show_default=True,
               help="Disparity-map file value / scale = disparity in pixels (ignored for PFM).")
 @click.option("--nonocc", "nonocc_mask", type=click.Path(dir_okay=False), default=None,
               help="Non-occlusion mask, non-zero = non-occluded (Middlebury occl.png).")
@@ -58,12 +72,12 @@ from mvtools.metrics import (VIDEO_METRICS, ERROR_BIN_EDGES, check_thresholds, e
 @click.option("--neighbour", default=None,
               help="--depth: the camera the disparities point to (rectified cameras: "
                    "disparity = fx * baseline / z).")
-@click.option("--reference-range", nargs=2, type=float, default=None, metavar="ZNEAR ZFAR",
+@click.option("--reference-range", nargs=2, type=DEPTH, default=None, metavar="ZNEAR ZFAR",
               help="--depth: Znear, Zfar of REFERENCE (default: its sidecar REFERENCE.json, "
                    "as estimate-depth writes).")
-@click.option("--test-range", nargs=2, type=float, default=None, metavar="ZNEAR ZFAR",
+@click.option("--test-range", nargs=2, type=DEPTH, default=None, metavar="ZNEAR ZFAR",
               help="--depth: Znear, Zfar of TEST (default: its sidecar TEST.json).")
-@click.option("--threshold", "thresholds", type=float, multiple=True,
+@click.option("--threshold", "thresholds", type=FINITE, multiple=True,
               help="Error thresholds in pixels (repeatable; default 1 and 2).")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON instead of a table.")
 @click.option("--json-file", type=click.Path(dir_okay=False), default=None,

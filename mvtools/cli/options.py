@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import logging
+import math
 import os
 import re
 import signal
@@ -44,7 +45,7 @@ class _ProgramFormatter(logging.Formatter):
         self.program = program
 
     def format(self, record: logging.LogRecord) -> str:
-        message = record.getMessage()
+        message = _cut_long_tokens(record.getMessage())
         if record.levelno >= logging.WARNING:
             return f"{self.program}: {record.levelname.lower()}: {message}"
         return f"{self.program}: {message}"
@@ -116,14 +117,14 @@ def _terminate_on_sigterm():
         signal.signal(signal.SIGTERM, previous)
 
 
-#: Longer runs of non-blank characters are cut in messages (a 10 MB token in a bad file);
-#: file paths stay whole.
+#: Longer runs of non-blank characters are cut in every message (a 10 MB token in a bad
+#: file); file paths stay whole.
 LONGEST_SHOWN = 256
 
 
 def _fail(ctx: click.Context, error: BaseException, message: str, exit_code: int) -> None:
     LOG.debug("the failure in full:", exc_info=error)
-    LOG.error("%s", _cut_long_tokens(message))
+    LOG.error("%s", message)
     ctx.exit(exit_code)
 
 
@@ -171,6 +172,36 @@ class ProgramCommand(click.Command):
             return super().parse_args(ctx, args)
         except click.UsageError as error:
             raise _OneLineUsageError(ctx.command_path, error.format_message()) from None
+
+
+class FiniteFloat(click.FloatRange):
+    """A float option, optionally in a range, that is finite: click's FloatRange lets NaN
+    through every bound (every comparison with NaN is false) and ``inf`` through open
+    upper ones. ``infinity=True`` admits +-inf (a Zfar at infinity), never NaN."""
+
+    name = "float"
+
+    def __init__(self, *args, infinity: bool = False, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.infinity = infinity
+
+    def convert(self, value, param, ctx):
+        number = super().convert(value, param, ctx)
+        if math.isnan(number) or (math.isinf(number) and not self.infinity):
+            self.fail(f"{value!r} is not a {'number' if self.infinity else 'finite number'}",
+                      param, ctx)
+        return number
+
+    def _describe_range(self) -> str:
+        return "" if self.min is None and self.max is None else super()._describe_range()
+
+
+#: A finite float option.
+FINITE = FiniteFloat()
+#: A finite float option above 0.
+POSITIVE = FiniteFloat(min=0, min_open=True)
+#: A depth (Znear, Zfar): any number but NaN; Zfar may be infinite.
+DEPTH = FiniteFloat(infinity=True)
 
 
 data_dir_option = click.option(

@@ -10,8 +10,16 @@ import click
 import numpy as np
 
 from mvtools.cli.inputs import frame_range, open_input_video
-from mvtools.cli.options import (ProgramCommand, parse_size, frame_range_options, program,
-                                 transposed_rotation_option, video_format_options)
+from mvtools.cli.options import (
+    DEPTH,
+    FiniteFloat,
+    ProgramCommand,
+    frame_range_options,
+    parse_size,
+    program,
+    transposed_rotation_option,
+    video_format_options,
+)
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.camera import turn_world
@@ -21,8 +29,15 @@ from mvtools.io.cameras import get_camera, write_cameras
 from mvtools.io.guard import check_output
 from mvtools.io.json_cameras import read_camera_file, write_json_cameras
 from mvtools.io.yuv import open_writer
-from mvtools.rectification import (DepthResampler, Rectification, cameras_between, chroma_maps,
-                                   rectify_cameras, remap_plane, undistortion)
+from mvtools.rectification import (
+    DepthResampler,
+    Rectification,
+    cameras_between,
+    chroma_maps,
+    rectify_cameras,
+    remap_plane,
+    undistortion,
+)
 
 LOG = logging.getLogger("mvtools")
 
@@ -42,7 +57,7 @@ _OFF_LINE_WARNING = 0.01
               help="A depth map video of a camera (MPEG: 255 or 65535 = Znear), sampled at the "
                    "nearest pixel and re-measured along the rectified camera's axis "
                    "(repeatable).")
-@click.option("--depth-range", nargs=2, type=float, default=None, metavar="ZNEAR ZFAR",
+@click.option("--depth-range", nargs=2, type=DEPTH, default=None, metavar="ZNEAR ZFAR",
               help="Znear and Zfar of the depth maps (default: the cameras' Depth_range of an "
                    "MPEG-I JSON camera file); the output keeps them.")
 @click.option("--undistort", "undistort_only", is_flag=True,
@@ -51,7 +66,7 @@ _OFF_LINE_WARNING = 0.01
               help="Describe the rectified cameras in the input's world frame. By default the "
                    "world frame turns with them, so that their rotations are the identity and "
                    "the centres lie along x, as VSRS's and DERS's 1D modes read camera files.")
-@click.option("--alpha", type=click.FloatRange(0.0, 1.0), default=0.0, show_default=True,
+@click.option("--alpha", type=FiniteFloat(0.0, 1.0), default=0.0, show_default=True,
               help="Kept field of view: 0 crops so that every output pixel is valid, 1 keeps "
                    "every source pixel (with empty borders), values between interpolate.")
 @click.option("--virtual", "virtual_count", type=click.IntRange(min=0), default=0,

@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 import mvtools
-from mvtools.cli.options import ProgramCommand, program
+from mvtools.cli.options import FiniteFloat, ProgramCommand, program
 from mvtools.cli.progress import Progress
 from mvtools.color.space import rgb_to_yuv
 from mvtools.errors import UsageError
@@ -22,8 +22,16 @@ from mvtools.io.images import write_image
 from mvtools.io.json_cameras import write_json_cameras
 from mvtools.io.yuv import YuvFormat, frame_from_luma, open_writer
 from mvtools.params import DersParams, VsrsParams
-from mvtools.scene import (Checkerboard, board_poses, calibration_rig, capture_checkerboard,
-                           default_scene, random_color_mismatches, render, sample_rigs)
+from mvtools.scene import (
+    Checkerboard,
+    board_poses,
+    calibration_rig,
+    capture_checkerboard,
+    default_scene,
+    random_color_mismatches,
+    render,
+    sample_rigs,
+)
 
 PARTS = ("line", "arc", "distorted", "checkerboard")
 # Board poses of the distorted array's own captures: its pictures are small (256x192 by
@@ -50,7 +58,7 @@ DISTORTED_CAPTURES = 20
 @click.option("--capture-size", type=(click.IntRange(min=64), click.IntRange(min=48)),
               default=(640, 480), show_default=True, metavar="W H",
               help="Picture size of the calibration captures.")
-@click.option("--capture-noise", type=click.FloatRange(min=0), default=0.0, show_default=True,
+@click.option("--capture-noise", type=FiniteFloat(min=0), default=0.0, show_default=True,
               help="Standard deviation of the noise added to the captures (grey levels); "
                    "noise-free captures compress ten times better, which keeps sample_data small.")
 @click.option("--part", "parts", multiple=True, type=click.Choice(PARTS),

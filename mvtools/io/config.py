@@ -30,7 +30,7 @@ from typing import Any, Iterable, Mapping, TypeVar
 
 import mvtools
 from mvtools.errors import ConfigError, UsageError
-from mvtools.io.atomic import atomic_output
+from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.files import read_text
 from mvtools.params import ParamError, ParamSpec, format_value, param_specs
 
@@ -400,9 +400,10 @@ def resolve_output_path(entry: ConfigEntry) -> Path:
     if native is None:
         raise entry.error(f"{entry.value!r} is a Windows drive path; "
                           "give an output path on this system", UsageError)
-    folder = native.parent
-    if not folder.is_dir():
-        raise entry.error(f"output folder {str(folder)!r} does not exist", UsageError)
+    try:
+        output_folder_exists(native.parent)
+    except UsageError as error:
+        raise entry.error(str(error), UsageError) from None
     return native
 
 

@@ -104,7 +104,7 @@ CASES = [
     Case("evaluate --disparity --threshold -1", (*DISPARITY, "--threshold", "-1"), 2,
          r"--threshold: .*-1", MAPS),
     Case("evaluate --disparity --threshold nan", (*DISPARITY, "--threshold", "nan"), 2,
-         r"--threshold: .*nan", MAPS),
+         r"'--threshold': 'nan' is not a finite number", MAPS),
     Case("evaluate --disparity --gt-scale 0", (*DISPARITY[:-1], "0"), 2,
          r"scale must be positive", MAPS),
     Case("evaluate --disparity without a scale for an unknown set", DISPARITY[:-2], 2,
