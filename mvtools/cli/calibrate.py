@@ -30,6 +30,9 @@ LOG = logging.getLogger("mvtools")
 # calibration) are not worth a warning when the MPEG file drops them.
 _NEGLIGIBLE_PIXELS = 0.25
 
+#: The report's file in the --report folder, beside the corner pictures.
+_REPORT = "report.json"
+
 
 def _parse_corners(ctx, param, value):
     try:
@@ -84,8 +87,8 @@ def command(captures, inner_corners, square_size, output, json_output, report_di
     sources = [open_captures(spec, lambda path: open_input_video(path, size, pix_fmt))
                for spec in captures]
     try:
-        _check_outputs(output, json_output)
         camera_names = _camera_names(sources, names)
+        _check_outputs(output, json_output, report_dir, camera_names)
         reference_index = _reference_index(camera_names, reference)
         board = Board(inner_corners=inner_corners, square_size=square_size)
         image_points, sizes, first_images = _detect(sources, camera_names, board)
@@ -105,21 +108,30 @@ def command(captures, inner_corners, square_size, output, json_output, report_di
     click.echo(_summary(result))
 
 
-def _check_outputs(output: str, json_output: str | None) -> None:
-    """Refuse the camera files before the captures are searched, not after the long
+def _check_outputs(output: str, json_output: str | None, report_dir: str | None,
+                   names: list[str]) -> None:
+    """Refuse the outputs before the captures are searched, not after the long
     calibration: a missing folder, an output that names a capture (every capture is
-    noted as an input when its source opens), or one file for both outputs."""
-    named = [(output, "camera file (-o)")]
+    noted as an input when its source opens), or one file for two outputs."""
+    named = [(Path(output), "camera file (-o)")]
     if json_output is not None:
-        named.append((json_output, "JSON camera file (--json)"))
-    for path, what in named:
-        output_folder_exists(Path(path).parent)
-        check_output(path, what)
+        named.append((Path(json_output), "JSON camera file (--json)"))
+    for path, _ in named:
+        output_folder_exists(path.parent)
+    if report_dir is not None:
+        folder = Path(report_dir)
+        named.append((folder / _REPORT, "report (--report)"))
+        named += [(_corner_picture(folder, name), f"corner picture of {name} (--report)")
+                  for name in names]
     # the guard refuses the second of two outputs with one name only when it is opened,
-    # after the calibration: compare the two here
-    if json_output is not None and Path(json_output).resolve() == Path(output).resolve():
-        raise UsageError("--json names the -o file: give each output its own name",
-                         path=json_output)
+    # after the calibration: compare them here
+    seen: dict[Path, str] = {}
+    for path, what in named:
+        check_output(path, what)
+        if path.resolve() in seen:
+            raise UsageError(f"the {what} is also the {seen[path.resolve()]}: give each output "
+                             "its own name", path=path)
+        seen[path.resolve()] = what
 
 
 def _camera_names(sources, names: str | None) -> list[str]:
@@ -254,7 +266,7 @@ def _report(result: RigCalibration, where) -> dict:
 
 def _write_report(folder: Path, result: RigCalibration, where, image_points, first_images):
     folder.mkdir(parents=True, exist_ok=True)
-    with atomic_output(folder / "report.json", "w") as handle:
+    with atomic_output(folder / _REPORT, "w") as handle:
         json.dump(_report(result, where), handle, indent=2)
         handle.write("\n")
     for index, camera in enumerate(result.cameras):
@@ -263,8 +275,13 @@ def _write_report(folder: Path, result: RigCalibration, where, image_points, fir
         used = np.flatnonzero(result.used[index])
         detected = [image_points[index][capture].corners for capture in used]
         reprojected = [result.reprojected[index, capture] for capture in used]
-        write_image(folder / f"{camera.name}_corners.png",
+        write_image(_corner_picture(folder, camera.name),
                     draw_corners(first_images[index], detected, reprojected))
+
+
+def _corner_picture(folder: Path, name: str) -> Path:
+    """The report's picture of camera ``name``'s detected corners."""
+    return folder / f"{name}_corners.png"
 
 
 def _summary(result: RigCalibration) -> str:

@@ -13,6 +13,7 @@ from mvtools.cli.options import (ProgramCommand, frame_range_options, parse_size
                                  video_format_options)
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
+from mvtools.io.atomic import output_folder_exists
 from mvtools.io.guard import check_output
 from mvtools.io.sidecar import (PackedVideo, read_sidecar, repeated_file, sidecar_path,
                                  write_sidecar)
@@ -153,6 +154,8 @@ def _unpack(packed_path: Path, sidecar: Path | None, out: Path, size, start_fram
                             f"says {packed.frames}: they do not belong together",
                             path=packed_path)
         frames = frame_range([video], start_frame, frame_count)
+        if out.exists():
+            output_folder_exists(out)       # -o names a file, not the views' folder
         out.mkdir(parents=True, exist_ok=True)
         targets = {}
         for placement in layout.placements:

@@ -116,6 +116,12 @@ PACK_CASES = [
     Case("pack unpack, a sidecar of another program", (*UNPACK, "--sidecar", "other.json"), 2,
          r"other\.json: not an mvtools pack sidecar",
          together(packed(), write("other.json", '{"cameras": []}'))),
+    Case("pack unpack -o onto a file", ("pack", "--unpack", PACKED, "-o", "notes.txt"), 2,
+         r"notes\.txt: the output folder is not a folder",
+         together(packed(), write("notes.txt", "mine"))),
+    Case("pack unpack into the packed video's folder, a view named as the packed video",
+         ("pack", "--unpack", PACKED, "-o", "."), 2,
+         rf"{PACKED}: the output would overwrite an input", packed({"file": PACKED})),
     Case("pack unpack with --view", (*UNPACK, "--view", "a", VIEW0), 2,
          r"give no --view", together(packed(), VIEWS)),
     Case("pack unpack, a good run", UNPACK, 0, files=packed(), outputs=UNPACKED),
@@ -170,6 +176,13 @@ def captures(camera: str, folder: str, names=CAPTURES) -> Callable[[Path], None]
 RIG = together(captures("cam2", "cam2"), captures("cam3", "cam3"))
 
 
+def copy_of(name: str, copy: str) -> Callable[[Path], None]:
+    """A copy of the working folder's file ``name`` as ``copy``."""
+    def files(target: Path) -> None:
+        (target / copy).write_bytes((target / name).read_bytes())
+    return files
+
+
 def smaller_capture(name: str) -> Callable[[Path], None]:
     """Replace capture ``name`` by its top-left quarter."""
     def files(target: Path) -> None:
@@ -180,7 +193,19 @@ CALIBRATE = ("calibrate", "cam2", "cam3", "--board", "9x6", "--square", "0.05")
 
 CALIBRATE_CASES = [
     Case("calibrate --json equal to -o", (*CALIBRATE, "-o", "c.txt", "--json", "c.txt"), 2,
-         r"c\.txt: .*-o.*--json|c\.txt: .*--json.*-o", RIG),
+         r"c\.txt: the JSON camera file \(--json\) is also the camera file \(-o\)", RIG),
+    Case("calibrate -o in the --report folder with the report's name",
+         (*CALIBRATE, "-o", "rep/report.json", "--report", "rep"), 2,
+         r"rep/report\.json: the report \(--report\) is also the camera file \(-o\)",
+         together(RIG, lambda target: (target / "rep").mkdir())),
+    Case("calibrate --report onto a file", (*CALIBRATE, "-o", "c.txt", "--report", "notes.txt"),
+         2, r"--report.*notes\.txt' is a file",
+         together(RIG, write("notes.txt", "mine"))),
+    Case("calibrate --report's corner picture onto a capture",
+         (*CALIBRATE, "-o", "c.txt", "--report", "cam2"), 2,
+         r"cam2/cam2_corners\.png: the corner picture of cam2 \(--report\) would overwrite an "
+         "input", together(RIG, copy_of("cam2/capture00.png", "cam2/cam2_corners.png"),
+                           copy_of("cam3/capture00.png", "cam3/cam3_corners.png"))),
     Case("calibrate -o onto a capture image", (*CALIBRATE, "-o", "cam2/capture04.png"), 2,
          r"cam2/capture04\.png: the camera file \(-o\) would overwrite an input", RIG),
     Case("calibrate --json onto a capture image",
