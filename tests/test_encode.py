@@ -40,6 +40,9 @@ def test_the_seeds_worked_bitrates():
         1920, 1080, fps=25, codec="hevc")
     with pytest.raises(ValueError, match="codec"):
         compressed_bitrate(1920, 1080, fps=25, codec="h263")
+    for fps in (0.0, float("nan"), float("inf")):
+        with pytest.raises(ValueError, match="frame rate"):
+            raw_bitrate(1920, 1080, fps=fps)
 
 
 @pytest.fixture(scope="module")

@@ -19,7 +19,7 @@ from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.cameras import write_cameras
 from mvtools.io.captures import open_captures
-from mvtools.io.guard import check_output
+from mvtools.io.guard import check_outputs
 from mvtools.io.images import write_image
 from mvtools.io.json_cameras import write_json_cameras
 from mvtools.scene.render import distort_normalized
@@ -123,15 +123,7 @@ def _check_outputs(output: str, json_output: str | None, report_dir: str | None,
         named.append((folder / _REPORT, "report (--report)"))
         named += [(_corner_picture(folder, name), f"corner picture of {name} (--report)")
                   for name in names]
-    # the guard refuses the second of two outputs with one name only when it is opened,
-    # after the calibration: compare them here
-    seen: dict[Path, str] = {}
-    for path, what in named:
-        check_output(path, what)
-        if path.resolve() in seen:
-            raise UsageError(f"the {what} is also the {seen[path.resolve()]}: give each output "
-                             "its own name", path=path)
-        seen[path.resolve()] = what
+    check_outputs(named)
 
 
 def _camera_names(sources, names: str | None) -> list[str]:

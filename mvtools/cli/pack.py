@@ -103,10 +103,10 @@ def _pack(views, depths, layout_kind, half, columns, block, frame_size, output, 
                                      for name, _ in depths])
         packed_format = YuvFormat(layout.width, layout.height, chroma=fmt.chroma, bits=fmt.bits)
         frames = frame_range(list(videos.values()), start_frame, frame_count)
-        with open_writer(output, packed_format) as writer:
+        with open_writer(output, packed_format, what="packed video (-o)") as writer:
             # the video is claimed now; the sidecar, written last, is checked before the
             # frames are packed, against the inputs and the video alike
-            check_output(sidecar, "sidecar (--sidecar, by default -o with .json)")
+            check_output(sidecar, "sidecar (--sidecar)")
             pack_frames(writer, videos, layout, frames)
             write_sidecar(sidecar, PackedVideo(
                 layout=layout, pix_fmt=packed_format.pix_fmt, frames=len(frames), files=files,

@@ -19,19 +19,19 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import os
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from mvtools.errors import UsageError
 
-__all__ = ["check_output", "claim_output", "file_guard", "note_input"]
+__all__ = ["check_output", "check_outputs", "claim_output", "file_guard", "note_input"]
 
 
 @dataclass
 class _RunFiles:
     inputs: dict[object, Path] = field(default_factory=dict)     # identity -> as given
-    outputs: dict[str, Path] = field(default_factory=dict)       # real path -> as given
+    outputs: dict[str, str] = field(default_factory=dict)        # real path -> what it is
 
 
 _RUN: contextvars.ContextVar[_RunFiles | None] = contextvars.ContextVar("mvtools_run_files",
@@ -73,7 +73,7 @@ def note_input(path: str | os.PathLike) -> None:
 def check_output(path: str | os.PathLike, what: str = "output") -> None:
     """Raise a UsageError if ``path`` names a file the current run reads or has already
     claimed as an output. Claims nothing: for a program's early check of outputs it
-    writes later."""
+    writes later (see also :func:`check_outputs`)."""
     run = _RUN.get()
     if run is None:
         return
@@ -82,11 +82,26 @@ def check_output(path: str | os.PathLike, what: str = "output") -> None:
         if identity in run.inputs:
             given = run.inputs[identity]
             same = "" if given == path else f" ({given})"
-            raise UsageError(f"the {what} would overwrite an input{same}: choose another name",
-                             path=path)
-    if os.path.realpath(path) in run.outputs:
-        raise UsageError(f"the {what} is already an output of this run: give each output "
-                         "its own name", path=path)
+            raise UsageError(f"the {what} would overwrite an input{same}: give it another "
+                             "name or folder", path=path)
+    earlier = run.outputs.get(os.path.realpath(path))
+    if earlier is not None:
+        raise UsageError(f"the {what} is already the {earlier} of this run: give each "
+                         "output its own name", path=path)
+
+
+def check_outputs(outputs: Iterable[tuple[str | os.PathLike, str]]) -> None:
+    """:func:`check_output` for each ``(path, what)`` of ``outputs``, and a UsageError
+    if two of them name one file: a program's check, before long work, of the outputs it
+    writes at the end."""
+    seen: dict[str, str] = {}
+    for path, what in outputs:
+        check_output(path, what)
+        real = os.path.realpath(path)
+        if real in seen:
+            raise UsageError(f"the {what} and the {seen[real]} are one file: give each "
+                             "output its own name", path=path)
+        seen[real] = what
 
 
 def claim_output(path: str | os.PathLike, what: str = "output", *, again: bool = False) -> None:
@@ -103,4 +118,4 @@ def claim_output(path: str | os.PathLike, what: str = "output", *, again: bool =
     if again:
         run.outputs.pop(real, None)
     check_output(path, what)
-    run.outputs[real] = path
+    run.outputs[real] = what

@@ -664,13 +664,13 @@ class VideoWriter:
     """
 
     def __init__(self, path: str | os.PathLike, fmt: YuvFormat, *, y4m: bool,
-                 frame_rate: Fraction | int | str | None = None):
+                 frame_rate: Fraction | int | str | None = None, what: str = "output"):
         self.path = Path(path)
         self.format = fmt
         self.num_frames = 0
         self.y4m = y4m
         self._stack = contextlib.ExitStack()
-        self._file = self._stack.enter_context(atomic_output(self.path, "wb"))
+        self._file = self._stack.enter_context(atomic_output(self.path, "wb", what=what))
         if y4m:
             rate = Fraction(DEFAULT_FRAME_RATE if frame_rate is None else frame_rate)
             self._file.write(f"YUV4MPEG2 W{fmt.width} H{fmt.height} F{rate.numerator}:{rate.denominator} "
@@ -746,15 +746,17 @@ class _Aborted(Exception):
 
 
 def open_writer(path: str | os.PathLike, fmt: YuvFormat, *,
-                frame_rate: Fraction | int | str | None = None) -> VideoWriter:
+                frame_rate: Fraction | int | str | None = None, what: str = "output"
+                ) -> VideoWriter:
     """Open a raw YUV (any extension but ``.y4m``) or Y4M file for writing.
 
     ``frame_rate`` (Y4M only) is a number or ``"30000/1001"``; None (a source that
     carries none, such as raw video) is :data:`DEFAULT_FRAME_RATE`. The Y4M header is
     ffmpeg's: ``C420jpeg`` for 8-bit 4:2:0, ``C444``, ``Cmono``, ``C420p10``,
-    ``Cmono16`` ...
+    ``Cmono16`` ... ``what`` names the output in messages (``"packed video (-o)"``).
     """
-    return VideoWriter(path, fmt, y4m=Path(path).suffix.lower() == ".y4m", frame_rate=frame_rate)
+    return VideoWriter(path, fmt, y4m=Path(path).suffix.lower() == ".y4m", frame_rate=frame_rate,
+                       what=what)
 
 
 def write_video(path: str | os.PathLike, fmt: YuvFormat, frames: Iterable[Sequence[np.ndarray]], *,

@@ -10,6 +10,8 @@ planning figures, not measurements: `mvtools pack --encode` measures.
 
 from __future__ import annotations
 
+import math
+
 __all__ = ["raw_bitrate", "compressed_bitrate", "HD_BITRATES", "CHROMA_SAMPLES"]
 
 # Samples per pixel, luma plus both chroma planes.
@@ -21,7 +23,7 @@ _HD_PIXEL_RATE = 1920 * 1080 * 25
 
 
 def _check(width, height, fps, views):
-    if width < 1 or height < 1 or fps <= 0 or views < 1:
+    if width < 1 or height < 1 or not 0 < fps < math.inf or views < 1:
         raise ValueError(f"need a positive size, frame rate and view count, got {width}x{height}, "
                          f"{fps} frames/s, {views} views")
 

@@ -79,7 +79,7 @@ CASES = [
          r"v1_depth_256x192_yuv420p.yuv: the .*would overwrite an input", LINE_SYNTHESIS),
     Case("synthesize, two outputs of one name",
          ("synthesize", SYNTHESIS_CONFIG, "-o", OUT, "--output-depth", OUT), 2,
-         rf"{OUT}: .*already an output of this run", LINE_SYNTHESIS),
+         rf"{OUT}: .*is already the .* of this run", LINE_SYNTHESIS),
     Case("estimate-depth --png onto the left picture",
          (*PAIR_ARGS, "-o", "d.pfm", "--png", "left.png"), 2,
          r"left.png: the .*would overwrite an input", PAIR),
