@@ -32,6 +32,7 @@ def test_hostile_use(case, tmp_path, monkeypatch):
     if case.files is not None:
         case.files(tmp_path)
     before = _snapshot(tmp_path)
+    folders = _folders(tmp_path)
     code, _, err = invoke(cli, *case.args)
     assert code == case.exit_code, err
     assert "Traceback" not in err
@@ -46,3 +47,8 @@ def test_hostile_use(case, tmp_path, monkeypatch):
     assert created <= set(case.outputs), f"files left: {sorted(created)}"
     if case.exit_code != 0:
         assert not (changed | created), "a failed run wrote files"
+        assert _folders(tmp_path) == folders, "a failed run left folders"
+
+
+def _folders(folder):
+    return {path for path in folder.rglob("*") if path.is_dir()}

@@ -135,7 +135,6 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
     except ValueError as error:
         raise DataError(str(error), path=camera_file) from None
     _log_warps(result, undistort_only)
-    out.mkdir(parents=True, exist_ok=True)
     for kind, by_camera in videos.items():
         for name, path in by_camera.items():
             index = index_of[name]
@@ -146,6 +145,7 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
         described = described + cameras_between(described, virtual_count)
     if not (undistort_only or keep_world):
         described = turn_world(described, described[0].R)
+    out.mkdir(parents=True, exist_ok=True)
     _write_cameras(camera_target, described)
     click.echo(_summary(result, undistort_only))
 
@@ -255,6 +255,8 @@ def _rectify_video(path: Path, target: Path, kind: str, result: Rectification, i
             coding = DepthCoding(depth_range, fmt.bits)
             resample = DepthResampler(source_camera, result.cameras[index], map_x, map_y)
         progress = Progress(len(frames), f"{path.name} frames rectified")
+        # OUT_DIR is made once the run is known to be good: a refused run leaves none
+        target.parent.mkdir(parents=True, exist_ok=True)
         with open_writer(target, fmt) as writer:
             for frame in frames:
                 planes = video.read(frame)
