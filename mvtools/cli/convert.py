@@ -27,6 +27,7 @@ from mvtools.color.space import rgb_to_yuv, yuv_to_rgb
 from mvtools.errors import DataError, UsageError
 from mvtools.geometry.depth import (
     check_depth_range,
+    check_stereo,
     depth_sign,
     depth_to_z,
     disparity_to_z,
@@ -178,9 +179,7 @@ def _stereo(focal, baseline) -> tuple[float, float]:
     if focal is None or baseline is None:
         raise UsageError("--focal and --baseline are needed for disparities")
     try:
-        # The rule on focal and baseline is geometry.depth's: tried on no disparity at
-        # all, it names the options before any frame is read.
-        disparity_to_z(np.zeros(0), focal, baseline)
+        check_stereo(focal, baseline)
     except ValueError as error:
         raise UsageError(str(error), key="--focal/--baseline") from None
     return focal, baseline

@@ -42,7 +42,7 @@ import numpy as np
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.projection import depth_along_axis
 
-__all__ = ["max_depth_value", "check_depth_range", "depth_sign", "inverse_depth_step",
+__all__ = ["max_depth_value", "check_depth_range", "check_stereo", "depth_sign", "inverse_depth_step",
            "DepthCoding", "facing_camera", "depth_to_z", "z_to_depth", "disparity_to_z",
            "z_to_disparity", "normalized_disparity", "disparity_to_depth_value",
            "depth_value_to_disparity", "ders_depth_range", "disparity_1d"]
@@ -329,7 +329,7 @@ def disparity_to_z(disparity, focal: float, baseline: float) -> np.ndarray:
     baseline : float
         Distance between the camera centres, positive (any length unit; ``z`` has it).
     """
-    _check_stereo(focal, baseline)
+    check_stereo(focal, baseline)
     disparity = np.asarray(disparity, dtype=np.float64)
     if not np.all(disparity >= 0):
         raise ValueError("disparity must be >= 0 (and not NaN)")
@@ -339,11 +339,13 @@ def disparity_to_z(disparity, focal: float, baseline: float) -> np.ndarray:
 
 def z_to_disparity(z, focal: float, baseline: float) -> np.ndarray:
     """``disparity = focal * baseline / z``; ``z = inf`` gives 0."""
-    _check_stereo(focal, baseline)
+    check_stereo(focal, baseline)
     return focal * baseline / _positive(z)
 
 
-def _check_stereo(focal: float, baseline: float) -> None:
+def check_stereo(focal: float, baseline: float) -> None:
+    """ValueError unless the focal length (pixels) and the baseline are positive and
+    finite: the rule of every disparity <-> depth formula here."""
     if not (np.isfinite(focal) and focal > 0 and np.isfinite(baseline) and baseline > 0):
         raise ValueError(f"focal and baseline must be positive and finite, got "
                          f"focal={focal}, baseline={baseline}")
@@ -358,7 +360,7 @@ def ders_depth_range(focal: float, baseline: float, dmin: float, dmax: float, *,
     With these, :func:`z_to_depth` of ``z = f B / (d + off)`` equals
     :func:`disparity_to_depth_value` of ``d``.
     """
-    _check_stereo(focal, baseline)
+    check_stereo(focal, baseline)
     if not (np.isfinite(dmin) and np.isfinite(dmax) and dmin < dmax):
         raise ValueError(f"need finite dmin < dmax, got dmin={dmin}, dmax={dmax}")
     if dmin + offset < 0:
