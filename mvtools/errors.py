@@ -8,7 +8,9 @@ exit with the class's exit code, without a traceback.
 
 from __future__ import annotations
 
+import contextlib
 import os
+from collections.abc import Iterator
 
 
 class MvtoolsError(Exception):
@@ -47,3 +49,19 @@ class DataError(MvtoolsError):
     """Input data that is inconsistent or damaged: truncated video, wrong sizes (exit code 1)."""
 
     exit_code = 1
+
+
+@contextlib.contextmanager
+def at_fault(kind: type[MvtoolsError] = UsageError, *, path: str | os.PathLike | None = None,
+             key: str | None = None, prefix: str = "") -> Iterator[None]:
+    """A ValueError raised in the block (the algorithm layer's word for a value it cannot
+    use) becomes ``kind`` naming the place that gave the value: an option (``key``), a
+    file (``path``), a frame (``prefix="frame 3: "``).
+
+    The programs' edge turns any other ValueError into exit code 2; this says whose
+    fault it is, and a data error (``kind=DataError``) exits with 1.
+    """
+    try:
+        yield
+    except ValueError as error:
+        raise kind(f"{prefix}{error}", path=path, key=key) from None

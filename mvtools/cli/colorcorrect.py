@@ -10,18 +10,38 @@ import click
 import numpy as np
 
 from mvtools.cli.inputs import frame_range, open_input_video
-from mvtools.cli.options import (ProgramCommand, frame_range_options, program,
-                                 transposed_rotation_option, video_format_options)
+from mvtools.cli.options import (
+    ProgramCommand,
+    frame_range_options,
+    program,
+    transposed_rotation_option,
+    video_format_options,
+)
 from mvtools.cli.progress import Progress
 from mvtools.color import rgb_to_yuv, yuv_to_rgb
-from mvtools.color.chart import (delta_e_2000, detect_chart, fit_chart_correction,
-                                 linear_rgb_to_lab, sample_patches, srgb_to_linear)
-from mvtools.color.correct import (SPACES, TARGETS, channel_names, correct_planes, view_tables,
-                                   working_codes)
-from mvtools.color.correspondence import (common_view_samples, corresponding_samples,
-                                          warped_psnr)
+from mvtools.color.chart import (
+    delta_e_2000,
+    detect_chart,
+    fit_chart_correction,
+    linear_rgb_to_lab,
+    sample_patches,
+    srgb_to_linear,
+)
+from mvtools.color.correct import (
+    SPACES,
+    TARGETS,
+    channel_names,
+    correct_planes,
+    view_tables,
+    working_codes,
+)
+from mvtools.color.correspondence import (
+    common_view_samples,
+    corresponding_samples,
+    warped_psnr,
+)
 from mvtools.color.lut import apply_lut
-from mvtools.errors import DataError, UsageError
+from mvtools.errors import DataError, UsageError, at_fault
 from mvtools.geometry.depth import DepthCoding, facing_camera
 from mvtools.io.cameras import get_camera
 from mvtools.io.color_charts import DEFAULT_CHART, read_colorchecker
@@ -325,11 +345,9 @@ class _Matcher:
         self._codings = {}
         if cameras is not None:
             self.depth_range = depth_range or _camera_depth_range(cameras, names)
-            try:
+            with at_fault(UsageError, key="--depth-range"):
                 self.cameras = {name: facing_camera(camera, self.depth_range)
                                 for name, camera in cameras.items()}
-            except ValueError as error:
-                raise UsageError(str(error), key="--depth-range") from None
         missing = [name for name in names if name not in depth_videos]
         if depth_videos and missing:
             raise UsageError(f"depth maps are given for some views but not for "

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
 import re
 from dataclasses import replace
 from pathlib import Path
@@ -24,7 +23,7 @@ from mvtools.cli.options import (
 from mvtools.cli.progress import Progress
 from mvtools.color.levels import convert_planes, depth_preview, requantize
 from mvtools.color.space import rgb_to_yuv, yuv_to_rgb
-from mvtools.errors import DataError, UsageError
+from mvtools.errors import DataError, UsageError, at_fault
 from mvtools.geometry.depth import (
     check_depth_range,
     check_stereo,
@@ -168,32 +167,23 @@ def _camera_depth_range(znear, zfar) -> tuple[float, float] | None:
 def _range(znear, zfar) -> tuple[float, float]:
     if znear is None or zfar is None:
         raise UsageError("--znear and --zfar are needed to interpret depth values")
-    try:
+    with at_fault(UsageError, key="--znear/--zfar"):
         check_depth_range(znear, zfar)
-    except ValueError as error:
-        raise UsageError(str(error), key="--znear/--zfar") from None
     return znear, zfar
 
 
 def _stereo(focal, baseline) -> tuple[float, float]:
     if focal is None or baseline is None:
         raise UsageError("--focal and --baseline are needed for disparities")
-    try:
+    with at_fault(UsageError, key="--focal/--baseline"):
         check_stereo(focal, baseline)
-    except ValueError as error:
-        raise UsageError(str(error), key="--focal/--baseline") from None
     return focal, baseline
 
 
-@contextlib.contextmanager
 def _samples_of(path, frame: int | None = None):
     """The algorithm layer's ValueErrors on the samples of ``path`` (the options were
     checked before) are the file's fault: a DataError naming it and the frame."""
-    try:
-        yield
-    except ValueError as error:
-        where = "" if frame is None else f"frame {frame}: "
-        raise DataError(f"{where}{error}", path=path) from None
+    return at_fault(DataError, path=path, prefix="" if frame is None else f"frame {frame}: ")
 
 
 # One printf field of an integer (frame_%03d.png, f%x.png); %% is a % sign.

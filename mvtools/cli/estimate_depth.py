@@ -29,20 +29,37 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.configs import LoadedConfig, command_line_input, load_config, video_format_for
-from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument,
-                                  param_options, program, transposed_rotation_option)
+from mvtools.cli.configs import (
+    LoadedConfig,
+    command_line_input,
+    load_config,
+    video_format_for,
+)
+from mvtools.cli.options import (
+    ProgramCommand,
+    data_dir_option,
+    overrides_argument,
+    param_options,
+    program,
+    transposed_rotation_option,
+)
 from mvtools.cli.progress import Progress
 from mvtools.depth import COSTS, METHODS, estimate_disparity
 from mvtools.depth.ders import DersEstimator, Neighbour
-from mvtools.errors import ConfigError, DataError, UsageError
+from mvtools.errors import ConfigError, DataError, UsageError, at_fault
+from mvtools.geometry.depth import DepthCoding
 from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.config import param_entry
 from mvtools.io.guard import check_output
 from mvtools.io.images import read_image, write_image
-from mvtools.io.yuv import YuvFormat, format_from_name, frame_from_luma, open_video, open_writer
+from mvtools.io.yuv import (
+    YuvFormat,
+    format_from_name,
+    frame_from_luma,
+    open_video,
+    open_writer,
+)
 from mvtools.params import DersParams
-from mvtools.geometry.depth import DepthCoding
 from mvtools.synthesis.working import to_working
 
 LOG = logging.getLogger(__name__)
@@ -268,12 +285,10 @@ def _ders_mode(config: str, overrides, data_dirs, *, output: str | None,
     sidecar = target.with_name(target.name + ".json")
     depth_format = _depth_format(target, size, depth_bits)
     center = loaded.cameras["center_camera_name"]
-    try:
+    with at_fault(ConfigError, path=config):
         estimator = DersEstimator(params, center, neighbours, method=params.method)
         coding = DepthCoding(estimator.depth_range, depth_format.bits,
                              depth_type=params.depth_type)
-    except ValueError as error:
-        raise ConfigError(str(error), path=config) from None
     znear, zfar = estimator.depth_range
     with contextlib.ExitStack() as stack:
         readers = [stack.enter_context(open_video(path, fmt)) for path, fmt in videos]

@@ -23,7 +23,7 @@ from mvtools.cli.options import (
 )
 from mvtools.cli.progress import Progress
 from mvtools.datasets import nonoccluded_pixels
-from mvtools.errors import ConfigError, DataError, UsageError
+from mvtools.errors import ConfigError, DataError, UsageError, at_fault
 from mvtools.geometry.depth import DepthCoding, check_depth_range, z_to_disparity
 from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.files import read_json
@@ -95,10 +95,8 @@ def command(reference, test, metrics, size, pix_fmt, start_frame, frame_count, d
     every frame of two depth videos, their depths turned into disparities towards
     --neighbour.
     """
-    try:
+    with at_fault(UsageError, key="--threshold"):
         thresholds = check_thresholds(thresholds or (1.0, 2.0))
-    except ValueError as error:
-        raise UsageError(str(error), key="--threshold") from None
     if disparity and depth_videos:
         raise UsageError("--disparity and --depth exclude each other")
     if disparity:
@@ -216,13 +214,11 @@ def _evaluate_disparity(gt_path: Path, disparity_path: Path, gt_scale, disparity
         other_gt = root / known_set.right_ground_truth if known_set.right_ground_truth else None
     nonoccluded = nonoccluded_pixels(ground_truth, known, scale=gt_scale, mask_path=nonocc_mask,
                                      other_view_path=other_gt)
-    try:
-        score = score_disparity(estimate, ground_truth, known=known, nonoccluded=nonoccluded,
-                                thresholds=thresholds)
     # the thresholds were checked: what is left is the ground truth's fault (no known
     # pixel, none non-occluded), a data error
-    except ValueError as error:
-        raise DataError(str(error), path=gt_path) from None
+    with at_fault(DataError, path=gt_path):
+        score = score_disparity(estimate, ground_truth, known=known, nonoccluded=nonoccluded,
+                                thresholds=thresholds)
     histogram = error_histogram(estimate, ground_truth, known=known)
     return {
         "ground_truth": str(gt_path), "disparity": str(disparity_path), "gt_scale": gt_scale,
@@ -305,10 +301,8 @@ def _focal_and_baseline(cameras, camera: str | None, neighbour: str | None) -> t
 def _depth_range(video: str, given, option: str) -> tuple[float, float]:
     """Znear, Zfar given on the command line, or else from the video's JSON sidecar."""
     if given is not None:
-        try:
+        with at_fault(UsageError, key=option):
             check_depth_range(*given)
-        except ValueError as error:
-            raise UsageError(str(error), key=option) from None
         return tuple(given)
     sidecar = Path(str(video) + ".json")
     if not sidecar.exists():
@@ -342,12 +336,10 @@ def _evaluate_depth(reference: Path, test: Path, reference_range, test_range, ne
                 z_to_disparity(DepthCoding(ranges[name], video.format.bits).z(
                     video.read(index)[0]), focal, baseline)
                 for name, video in (("reference", ref_video), ("test", test_video)))
-            try:
-                score = score_disparity(estimate, truth, thresholds=thresholds)
             # the thresholds were checked: what is left is the frame's fault (no pixel of
             # known ground truth), a data error
-            except ValueError as error:
-                raise DataError(f"frame {index}: {error}", path=reference) from None
+            with at_fault(DataError, path=reference, prefix=f"frame {index}: "):
+                score = score_disparity(estimate, truth, thresholds=thresholds)
             rows.append({"frame": index,
                          **{f"bad {t:g}": v for t, v in score.bad_all.items()},
                          "mean abs": score.mean_abs_error, "RMS": score.rms_error})

@@ -21,7 +21,7 @@ from mvtools.cli.options import (
     video_format_options,
 )
 from mvtools.cli.progress import Progress
-from mvtools.errors import DataError, UsageError
+from mvtools.errors import DataError, UsageError, at_fault
 from mvtools.geometry.camera import turn_world
 from mvtools.geometry.depth import DepthCoding, check_depth_range
 from mvtools.io.atomic import output_folder_exists
@@ -99,10 +99,8 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
     nearest pixel.
     """
     if depth_range is not None:
-        try:
+        with at_fault(UsageError, key="--depth-range"):
             check_depth_range(*depth_range)
-        except ValueError as error:
-            raise UsageError(str(error), key="--depth-range") from None
     cameras = read_camera_file(camera_file, transposed_rotation=transposed_rotation)
     names = list(camera_names) or list(dict.fromkeys(name for name, _ in (*textures, *depths)))
     if not names:
@@ -127,13 +125,11 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
     out = Path(out_dir)
     camera_target = Path(cameras_out) if cameras_out else out / "cameras.txt"
     targets = _outputs(videos, out, camera_target)
-    try:
+    with at_fault(DataError, path=camera_file):
         if undistort_only:
             result = undistortion(selected, alpha=alpha)
         else:
             result = rectify_cameras(selected, alpha=alpha)
-    except ValueError as error:
-        raise DataError(str(error), path=camera_file) from None
     _log_warps(result, undistort_only)
     for kind, by_camera in videos.items():
         for name, path in by_camera.items():

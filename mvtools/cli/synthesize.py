@@ -19,16 +19,38 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.configs import LoadedConfig, command_line_input, load_config, video_format_for
-from mvtools.cli.options import (ProgramCommand, data_dir_option, overrides_argument,
-                                  param_options, program, transposed_rotation_option)
+from mvtools.cli.configs import (
+    LoadedConfig,
+    command_line_input,
+    load_config,
+    video_format_for,
+)
+from mvtools.cli.options import (
+    ProgramCommand,
+    data_dir_option,
+    overrides_argument,
+    param_options,
+    program,
+    transposed_rotation_option,
+)
 from mvtools.cli.progress import Progress
-from mvtools.errors import ConfigError, DataError, UsageError
+from mvtools.errors import ConfigError, DataError, UsageError, at_fault
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import DepthCoding, depth_sign, facing_camera
-from mvtools.io.config import COMMAND_LINE, ConfigEntry, param_entry, resolve_output_path
+from mvtools.io.config import (
+    COMMAND_LINE,
+    ConfigEntry,
+    param_entry,
+    resolve_output_path,
+)
 from mvtools.io.guard import check_output
-from mvtools.io.yuv import VideoReader, YuvFormat, frame_from_luma, open_video, open_writer
+from mvtools.io.yuv import (
+    VideoReader,
+    YuvFormat,
+    frame_from_luma,
+    open_video,
+    open_writer,
+)
 from mvtools.params import VsrsParams
 from mvtools.synthesis import ReferenceView, SynthesisOptions
 from mvtools.synthesis.pipeline import Synthesizer
@@ -127,11 +149,9 @@ def command(config, overrides, data_dirs, extra_views, hole_filling, output_dept
                                  depth_type=params.depth_type)
                    for ref, reader in zip(references, depths)]
         depth_range = references[0].depth_range
-        try:
+        with at_fault(ConfigError, path=config):
             synthesizer = Synthesizer(virtual, [ref.camera for ref in references], algorithm,
                                       size=size, depth_range=depth_range)
-        except ValueError as error:
-            raise ConfigError(str(error), path=config) from None
         depth_output = None
         if "depth" in outputs:
             out_range = tuple(output_depth_range) if output_depth_range else depth_range
@@ -334,10 +354,8 @@ def _texture_format(readers: list[VideoReader]) -> YuvFormat:
 # --------------------------------------------------------------------------- conversions
 
 def _depth_coding(depth_range, bits: int, key: str, *, depth_type: int) -> DepthCoding:
-    try:
+    with at_fault(UsageError, key=key):
         return DepthCoding(depth_range, bits, depth_type=depth_type)
-    except ValueError as error:
-        raise UsageError(str(error), key=key) from None
 
 
 def synthesis_options(params: VsrsParams, *, hole_filling: str | None = None) -> SynthesisOptions:
