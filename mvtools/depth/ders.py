@@ -103,8 +103,8 @@ class DersEstimator:
     ValueError
         No neighbour, two on one side, an unknown method, a BaselineBasis view that is
         not matched, a search range of fewer than two planes or reaching behind the
-        cameras, DepthType 1 without a z search range, an unsupported
-        DepthEstimationMode.
+        cameras, DepthType 1 without a z search range (DersParams itself refuses the
+        DepthEstimationMode values other than 0).
     """
 
     def __init__(self, params: DersParams, center: Camera, neighbours: Sequence[Neighbour], *,
@@ -116,9 +116,6 @@ class DersEstimator:
             raise ValueError(f"at most one left and one right neighbour, got sides {sides}")
         if method not in METHODS:
             raise ValueError(f"unknown method {method!r}; known methods: {', '.join(METHODS)}")
-        if params.depth_estimation_mode != 0:
-            raise ValueError(f"DepthEstimationMode {params.depth_estimation_mode} (manual input "
-                             "or reference depth) is not supported; use 0 (automatic)")
         self.params = params
         # A negative range (or world planes behind a camera) turns the cameras round to
         # face the scene (mvtools.geometry.depth): depths along their axes are positive.
