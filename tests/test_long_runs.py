@@ -184,8 +184,6 @@ def test_numba_threading_layer_is_not_tbb_when_libtbb_is_installed():
     assert {layer for layer, _ in answers} <= {"omp", "workqueue"}, answers
 
 
-@pytest.mark.xfail(strict=True, reason="libgomp's idle threads spin before they sleep: needs "
-                   "OMP_WAIT_POLICY=PASSIVE set by mvtools/__init__.py (issue 17)")
 def test_numba_threads_leave_the_cores_between_parallel_kernels(busy_machine):
     # A kernel, then serial work, as the programs alternate them: the worker threads
     # should use the CPU for their share of the kernels only. libgomp's default keeps
