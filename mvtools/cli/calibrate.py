@@ -13,7 +13,7 @@ import numpy as np
 from mvtools.calibration import Board, RigCalibration, calibrate_rig, detect_board
 from mvtools.calibration.drawing import draw_corners
 from mvtools.cli.inputs import open_input_video
-from mvtools.cli.options import ProgramCommand, program, video_format_options
+from mvtools.cli.options import POSITIVE, ProgramCommand, program, video_format_options
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import atomic_output, output_folder_exists
@@ -49,7 +49,7 @@ def _parse_corners(ctx, param, value):
 @click.argument("captures", nargs=-1, required=True, metavar="CAPTURES...")
 @click.option("--board", "inner_corners", required=True, callback=_parse_corners,
               metavar="COLUMNSxROWS", help="Inner corners of the checkerboard, e.g. 9x6.")
-@click.option("--square", "square_size", required=True, type=click.FloatRange(min=0, min_open=True),
+@click.option("--square", "square_size", required=True, type=POSITIVE,
               help="Side of a square in metres: the scale of the camera centres.")
 @click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
               help="MPEG camera parameter file to write (K1, K2 in the distortion slots).")
@@ -68,7 +68,7 @@ def _parse_corners(ctx, param, value):
               help="Fit the tangential distortion P1, P2 besides K1, K2 (the chapter's lens "
                    "model). The MPEG camera file stores only K1 and K2; --no-tangential fits "
                    "a model the file holds exactly.")
-@click.option("--max-capture-rms", type=click.FloatRange(min=0, min_open=True), default=1.0,
+@click.option("--max-capture-rms", type=POSITIVE, default=1.0,
               show_default=True,
               help="Captures whose reprojection error (px RMS) exceeds this are dropped.")
 @video_format_options

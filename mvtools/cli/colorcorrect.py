@@ -11,6 +11,7 @@ import numpy as np
 
 from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import (
+    DEPTH,
     ProgramCommand,
     frame_range_options,
     program,
@@ -86,7 +87,7 @@ LOG = logging.getLogger("mvtools")
 @click.option("--depth", "depths", multiple=True, nargs=2, metavar="NAME VIDEO",
               help="Depth map video of a view (MPEG convention, repeatable). Without depth "
                    "for a view and the reference, their cumulative histograms are matched.")
-@click.option("--depth-range", nargs=2, type=float, default=None, metavar="ZNEAR ZFAR",
+@click.option("--depth-range", nargs=2, type=DEPTH, default=None, metavar="ZNEAR ZFAR",
               help="Znear and Zfar of the depth maps (default: the cameras' Depth_range in "
                    "an MPEG-I JSON camera file).")
 @click.option("--space", type=click.Choice(SPACES), default="rgb", show_default=True,

@@ -36,6 +36,7 @@ from mvtools.cli.configs import (
     video_format_for,
 )
 from mvtools.cli.options import (
+    FINITE,
     ProgramCommand,
     data_dir_option,
     overrides_argument,
@@ -129,7 +130,7 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 @click.option("--png", type=click.Path(dir_okay=False), default=None,
               help="Stereo-pair mode: also write the disparity map as a 16-bit PNG holding "
                    "disparity * --png-scale, rounded, 0 = unknown.")
-@click.option("--png-scale", type=float, default=None,
+@click.option("--png-scale", type=FINITE, default=None,
               help=f"Stereo-pair mode: PNG value / scale = disparity in pixels (give the same "
                    f"number to evaluate --disparity-scale; default {DEFAULT_PNG_SCALE:g}).")
 @click.option("--depth-bits", type=click.Choice(["8", "16"]), default=None,

@@ -26,6 +26,7 @@ from mvtools.cli.configs import (
     video_format_for,
 )
 from mvtools.cli.options import (
+    DEPTH,
     ProgramCommand,
     data_dir_option,
     overrides_argument,
@@ -88,7 +89,7 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",),
 @click.option("--output-depth", type=click.Path(dir_okay=False), default=None,
               help="Also write the virtual view's depth map, in the format of the left depth map "
                    "(8-bit 4:2:0 with chroma 128, or as its name says).")
-@click.option("--output-depth-range", nargs=2, type=float, default=None, metavar="ZNEAR ZFAR",
+@click.option("--output-depth-range", nargs=2, type=DEPTH, default=None, metavar="ZNEAR ZFAR",
               help="Znear, Zfar of --output-depth (default: the left view's).")
 @click.option("--output-holes", type=click.Path(dir_okay=False), default=None,
               help="Also write the hole mask: 8-bit grey (4:0:0) video, 255 where no view saw the "
