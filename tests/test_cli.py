@@ -3,6 +3,7 @@ giving one line naming the place at fault, the right exit code and no output."""
 
 from __future__ import annotations
 
+import importlib.metadata
 import json
 import os
 import subprocess
@@ -11,11 +12,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from program_runner import assert_one_line_error, invoke, run
+from shared_data import shared_data
 
+from mvtools.cli.main import PROGRAMS, program_command
 from mvtools.io.images import read_image, write_image
 from mvtools.io.yuv import YuvFormat, read_frame, write_video
-from program_runner import assert_one_line_error, run
-from shared_data import shared_data
 
 KENDO_ZNEAR, KENDO_ZFAR = 448.251214, 11206.280350
 
@@ -310,3 +312,11 @@ def test_time_log_records_each_finished_program(tmp_path):
     lines = [line.split("\t") for line in log.read_text().splitlines()]
     assert [line[1:] for line in lines] == [["mvtools bitrate", "25"]] * 2
     assert all(0 <= float(line[0]) < 60 for line in lines)
+
+
+@pytest.mark.parametrize("name", sorted(PROGRAMS))
+def test_every_program_states_the_installed_version(name):
+    # the installed distribution's metadata, not the module's constant
+    code, out, _ = invoke(program_command(name), "--version")
+    assert code == 0
+    assert out.strip() == f"mvtools, version {importlib.metadata.version('mvtools')}"

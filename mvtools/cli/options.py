@@ -15,6 +15,7 @@ import time
 
 import click
 
+from mvtools import __version__
 from mvtools.errors import MvtoolsError
 from mvtools.io.guard import file_guard
 from mvtools.params import Kind, param_specs
@@ -68,6 +69,7 @@ def program(function):
     output.
     """
 
+    @click.version_option(__version__, prog_name="mvtools")
     @click.option("-v", "--verbose", count=True, help="More messages on stderr (repeatable).")
     @click.option("-q", "--quiet", count=True, help="Fewer messages on stderr (repeatable).")
     @click.pass_context
