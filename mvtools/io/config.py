@@ -32,7 +32,14 @@ import mvtools
 from mvtools.errors import ConfigError, UsageError
 from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.files import read_text
-from mvtools.params import ParamError, ParamSpec, format_value, param_specs
+from mvtools.params import (
+    DersParams,
+    ParamError,
+    ParamSpec,
+    VsrsParams,
+    format_value,
+    param_specs,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -269,6 +276,7 @@ def load_params(cls: type[P], entries: Mapping[str, ConfigEntry]) -> P:
         with another; the message names the file, line and key.
     """
     specs = {spec.key: spec for spec in param_specs(cls)}
+    _check_program(cls, entries)
     values: dict[str, Any] = {}
     sources: dict[str, ConfigEntry] = {}
     for key, entry in entries.items():
@@ -288,6 +296,28 @@ def load_params(cls: type[P], entries: Mapping[str, ConfigEntry]) -> P:
         if given:
             raise given[0].error(err.message) from None
         raise ConfigError(err.message, key=err.key) from None
+
+
+#: Keys of their own that make a file the other program's configuration (at least this
+#: many, and more than keys of the program reading it): 20 "unknown key" warnings would
+#: say it less clearly.
+OTHER_PROGRAM_KEYS = 3
+
+
+def _check_program(cls: type, entries: Mapping[str, ConfigEntry]) -> None:
+    """A ConfigError if ``entries`` are another program's configuration (DERS's given to
+    VSRS's reader or the reverse), naming the file and some of its keys."""
+    own = {spec.key for spec in param_specs(cls)}
+    for other in (VsrsParams, DersParams):
+        if other is cls:
+            continue
+        theirs = {spec.key for spec in param_specs(other)}
+        only_theirs = [entry for key, entry in entries.items() if key in theirs - own]
+        only_own = [key for key in entries if key in own - theirs]
+        if len(only_theirs) >= OTHER_PROGRAM_KEYS and len(only_theirs) > len(only_own):
+            shown = ", ".join(entry.key for entry in only_theirs[:3])
+            raise ConfigError(f"this is a {other.program} configuration ({shown}, ...), "
+                              f"not a {cls.program} one", path=only_theirs[0].path)
 
 
 def param_entry(params: Any, name: str) -> ConfigEntry:

@@ -180,4 +180,10 @@ CASES = [
     Case("estimate-depth, one frame", ("estimate-depth", DERS_CONFIG, "-q", "--start-frame", "2",
                                        "--frames", "1", "-o", OUT),
          0, files=LINE_DERS, outputs=(OUT, f"{OUT}.json")),
+    Case("synthesize given a DERS configuration", ("synthesize", DERS_CONFIG, "-o", OUT), 2,
+         rf"{DERS_CONFIG}: this is a DERS configuration \(CenterCameraName, .*\), not a VSRS one",
+         LINE_DERS),
+    Case("estimate-depth given a VSRS configuration", ("estimate-depth", SYNTHESIS_CONFIG, "-o", OUT),
+         2, rf"{SYNTHESIS_CONFIG}: this is a VSRS configuration \(LeftNearestDepthValue, .*\), "
+            "not a DERS one", LINE_SYNTHESIS),
 ]
