@@ -320,3 +320,21 @@ def test_every_program_states_the_installed_version(name):
     code, out, _ = invoke(program_command(name), "--version")
     assert code == 0
     assert out.strip() == f"mvtools, version {importlib.metadata.version('mvtools')}"
+
+
+def test_verbose_shows_the_parameters_their_sources_and_the_inputs(tmp_path):
+    line = Path(__file__).resolve().parent.parent / "sample_data" / "line"
+    config = line / "synthesize_cam2.cfg"
+    precision_line = next(number for number, text in
+                          enumerate(config.read_text().splitlines(), start=1)
+                          if text.startswith("Precision"))
+    output = tmp_path / "out_256x192_yuv420p.yuv"
+    code, _, err = run("synthesize", config, "--frames", "1", "-v", "-o", output)
+    assert code == 0, err
+    debug = [text for text in err.splitlines() if ": debug: " in text]
+    assert f"{config}:{precision_line}: Precision = 2" in "\n".join(debug)
+    assert any(text.endswith("v1_texture_256x192_yuv420p.yuv: 256x192 yuv420p, 3 frames")
+               for text in debug), debug
+    assert any(text.endswith(f"{output}: written (73728 bytes)") for text in debug), debug
+    code, _, err = run("synthesize", config, "--frames", "1", "-o", output)
+    assert code == 0 and ": debug: " not in err

@@ -39,7 +39,8 @@ def _set_log_level(ctx: click.Context, verbose: int, quiet: int) -> None:
 
 
 class _ProgramFormatter(logging.Formatter):
-    """``mvtools-synthesize: warning: ...``; plain information carries no level word."""
+    """``mvtools-synthesize: warning: ...`` and ``...: debug: ...``; plain information
+    carries no level word."""
 
     def __init__(self, program: str):
         super().__init__()
@@ -47,7 +48,7 @@ class _ProgramFormatter(logging.Formatter):
 
     def format(self, record: logging.LogRecord) -> str:
         message = _cut_long_tokens(record.getMessage())
-        if record.levelno >= logging.WARNING:
+        if record.levelno >= logging.WARNING or record.levelno < logging.INFO:
             return f"{self.program}: {record.levelname.lower()}: {message}"
         return f"{self.program}: {message}"
 
@@ -76,6 +77,11 @@ def program(function):
     @functools.wraps(function)
     def wrapper(ctx: click.Context, verbose: int, quiet: int, **kwargs):
         _set_log_level(ctx, verbose, quiet)
+        LOG.debug("mvtools %s, Python %s, numba threading layers %s, OMP_WAIT_POLICY %s",
+                  __version__, sys.version.split()[0],
+                  os.environ.get("NUMBA_THREADING_LAYER") or
+                  os.environ.get("NUMBA_THREADING_LAYER_PRIORITY"),
+                  os.environ.get("OMP_WAIT_POLICY"))
         start = time.perf_counter()
         try:
             with _terminate_on_sigterm(), file_guard():
@@ -92,6 +98,7 @@ def program(function):
         except Terminated as error:
             _fail(ctx, error, "terminated: unfinished outputs were removed", 143)
         _log_time(ctx, time.perf_counter() - start)
+        LOG.debug("done in %.2f s", time.perf_counter() - start)
         return result
 
     return wrapper

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import logging
 import os
 import tempfile
 from collections.abc import Iterator
@@ -11,6 +12,8 @@ from typing import IO
 
 from mvtools.errors import UsageError
 from mvtools.io.guard import claim_output
+
+logger = logging.getLogger(__name__)
 
 
 @contextlib.contextmanager
@@ -37,6 +40,7 @@ def atomic_output(path: str | os.PathLike, mode: str = "wb", *, what: str = "out
         # mkstemp creates the file private (0600); give it the usual permissions.
         os.chmod(tmp_name, 0o666 & ~_current_umask())
         os.replace(tmp_name, target)
+        logger.debug("%s: written (%d bytes)", target, os.path.getsize(target))
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp_name)

@@ -288,6 +288,7 @@ def load_params(cls: type[P], entries: Mapping[str, ConfigEntry]) -> P:
             continue
         values[spec.name] = _convert(entry, spec)
         sources[spec.name] = entry
+        logger.debug("%s: %s = %s", entry.place, key, format_value(values[spec.name]))
     try:
         return cls(**values, sources=sources)
     except ParamError as err:

@@ -360,6 +360,7 @@ class VideoReader:
         self.format = fmt
         self.num_frames = num_frames
         self._file = handle
+        logger.debug("%s: %s, %d frames", path, fmt, num_frames)
 
     # The subclass knows where a frame's samples start.
     def _frame_offset(self, index: int) -> int:
