@@ -7,7 +7,6 @@ from __future__ import annotations
 import contextlib
 import json
 import logging
-import subprocess
 import sys
 from pathlib import Path
 
@@ -27,6 +26,7 @@ from mvtools.cli.options import (
 from mvtools.cli.pack import write_packed, write_unpacked
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
+from mvtools.io.abort import run_program
 from mvtools.io.atomic import atomic_output
 from mvtools.io.encoders import ENCODERS, decode_hevc, encode_hevc, program_path
 from mvtools.io.yuv import YuvFormat, open_video, open_writer
@@ -215,7 +215,7 @@ def _synthesize(config: Path, output: Path, overrides: dict, frames: int) -> Non
     overrides = {**overrides, "start_frame": 0, "total_number_of_frames": frames}
     command = [sys.executable, "-m", "mvtools", "synthesize", str(config), "-q", "-o", str(output),
                *(f"{keys[field]}={value}" for field, value in overrides.items())]
-    completed = subprocess.run(command, capture_output=True, text=True)
+    completed = run_program(command)
     if completed.returncode != 0:
         raise DataError(f"synthesis failed: {completed.stderr.strip().splitlines()[-1]}",
                         path=config)

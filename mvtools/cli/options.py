@@ -17,6 +17,7 @@ import click
 
 from mvtools import __version__
 from mvtools.errors import MvtoolsError
+from mvtools.io.abort import abort
 from mvtools.io.guard import file_guard
 from mvtools.params import Kind, param_specs
 
@@ -63,7 +64,7 @@ def program(function):
     - ``ValueError``: the algorithm layer's word for an argument it cannot use (a depth
       range, a threshold, a baseline the options gave it), so a usage error: 2.
     - SIGINT: 130; SIGTERM (what make, timeout, CI runners and schedulers send): 143. Both
-      unwind the run, so the temporary files of unfinished outputs are removed.
+      remove the temporary files of unfinished outputs and end the process at once.
 
     ``-v`` adds the traceback of a failure to the log, as debug detail. The run is one
     :func:`mvtools.io.guard.file_guard` scope: no output may name an input or another
@@ -84,7 +85,7 @@ def program(function):
                   os.environ.get("OMP_WAIT_POLICY"))
         start = time.perf_counter()
         try:
-            with _terminate_on_sigterm(), file_guard():
+            with _end_on_signals(), file_guard():
                 result = function(**kwargs)
         except MvtoolsError as error:
             _fail(ctx, error, str(error), error.exit_code)
@@ -93,10 +94,6 @@ def program(function):
             _fail(ctx, error, f"{where}{error.strerror or error}", 1)
         except ValueError as error:
             _fail(ctx, error, str(error), 2)
-        except KeyboardInterrupt as error:
-            _fail(ctx, error, "interrupted: unfinished outputs were removed", 130)
-        except Terminated as error:
-            _fail(ctx, error, "terminated: unfinished outputs were removed", 143)
         _log_time(ctx, time.perf_counter() - start)
         LOG.debug("done in %.2f s", time.perf_counter() - start)
         return result
@@ -104,26 +101,39 @@ def program(function):
     return wrapper
 
 
-class Terminated(BaseException):
-    """SIGTERM arrived. A BaseException, as KeyboardInterrupt is, so that no ``except
-    Exception`` stops it before the outputs' clean-up and the program's edge."""
+#: The signals that end a run, and the word for each in its message.
+ENDING_SIGNALS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated"}
 
 
 @contextlib.contextmanager
-def _terminate_on_sigterm():
-    """Within the block, SIGTERM raises :class:`Terminated` in the main thread."""
+def _end_on_signals():
+    """Within the block, SIGINT and SIGTERM end the process: the unfinished outputs' temporary
+    files are removed and child programs killed (:func:`mvtools.io.abort.abort`), one line
+    is logged, and the exit code is 128 + the signal's number, as shells report it.
+
+    The process ends in the handler rather than by raising: the handler may run inside a
+    callback from C code (numba compiling a kernel), where a raised exception is printed
+    and ignored and the run would go on; and a half-built compiler object crashes the
+    interpreter's clean-up (SIGSEGV) if the process unwinds from there.
+    """
     if threading.current_thread() is not threading.main_thread():
         yield       # signals reach the main thread only; its caller handles them
         return
 
-    def terminate(signum, frame):
-        raise Terminated()
+    def end(signum, frame):
+        abort()
+        LOG.error("%s: unfinished outputs were removed", ENDING_SIGNALS[signum])
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        os._exit(128 + signum)
 
-    previous = signal.signal(signal.SIGTERM, terminate)
+    previous = {signum: signal.signal(signum, end) for signum in ENDING_SIGNALS}
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 #: Longer runs of non-blank characters are cut in every message (a 10 MB token in a bad

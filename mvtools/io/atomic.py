@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import IO
 
 from mvtools.errors import UsageError
+from mvtools.io.abort import unfinished_file
 from mvtools.io.guard import claim_output
 
 logger = logging.getLogger(__name__)
@@ -21,8 +22,8 @@ def atomic_output(path: str | os.PathLike, mode: str = "wb", *, what: str = "out
                   ) -> Iterator[IO]:
     """Open a temporary file next to ``path``; rename it to ``path`` on success.
 
-    If the block raises (an error, SIGINT, or SIGTERM through the programs' handler),
-    the temporary file is removed and ``path`` is left as it was, so a failed run
+    If the block raises, or the programs' signal handler calls
+    :func:`mvtools.io.abort.abort`, the temporary file is removed and ``path`` is left as it was, so a failed run
     never leaves a half-written output behind. In a :func:`mvtools.io.guard.file_guard`
     scope, ``path`` may not name an input or another output of the run (checked when
     the file is opened and again before it replaces ``path``). ``what`` names the
@@ -34,12 +35,13 @@ def atomic_output(path: str | os.PathLike, mode: str = "wb", *, what: str = "out
     claim_output(target, what)
     fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=directory)
     try:
-        with os.fdopen(fd, mode) as handle:
+        with unfinished_file(tmp_name), os.fdopen(fd, mode) as handle:
             yield handle
-        claim_output(target, what, again=True)
-        # mkstemp creates the file private (0600); give it the usual permissions.
-        os.chmod(tmp_name, 0o666 & ~_current_umask())
-        os.replace(tmp_name, target)
+            claim_output(target, what, again=True)
+            # mkstemp creates the file private (0600); give it the usual permissions.
+            os.chmod(tmp_name, 0o666 & ~_current_umask())
+            handle.close()
+            os.replace(tmp_name, target)
         logger.debug("%s: written (%d bytes)", target, os.path.getsize(target))
     except BaseException:
         with contextlib.suppress(FileNotFoundError):

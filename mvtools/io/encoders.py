@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import os
 import shutil
-import subprocess
 from pathlib import Path
 
 from mvtools.errors import DataError, UsageError
+from mvtools.io.abort import run_program, unfinished_file
 from mvtools.io.atomic import output_folder_exists
 from mvtools.io.guard import claim_output, note_input
 from mvtools.io.yuv import YuvFormat
@@ -38,16 +38,17 @@ def _run(command: list[str], what: str, target: Path) -> None:
     claim_output(target, f"{what} output")
     temporary = target.with_name(f".{target.name}.part{target.suffix}")
     command = [part if part != "{output}" else str(temporary) for part in command]
-    try:
-        completed = subprocess.run(command, capture_output=True, text=True)
-        if completed.returncode != 0:
-            message = (completed.stderr or completed.stdout).strip().splitlines()
-            raise DataError(f"{what} failed (exit code {completed.returncode}): "
-                            f"{message[-1] if message else 'no message'}", path=target)
-        os.replace(temporary, target)
-    finally:
-        if temporary.exists():
-            temporary.unlink()
+    with unfinished_file(temporary):
+        try:
+            completed = run_program(command)
+            if completed.returncode != 0:
+                message = (completed.stderr or completed.stdout).strip().splitlines()
+                raise DataError(f"{what} failed (exit code {completed.returncode}): "
+                                f"{message[-1] if message else 'no message'}", path=target)
+            os.replace(temporary, target)
+        finally:
+            if temporary.exists():
+                temporary.unlink()
 
 
 def encode_hevc(source: str | os.PathLike, fmt: YuvFormat, bitstream: str | os.PathLike, *,
