@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 BUILD ?= build
 
 .DELETE_ON_ERROR:
-.PHONY: install sample demo chain published test test-fast bench clean
+.PHONY: install sample demo chain published test test-fast lint bench clean
 
 install: $(VENV)/.installed
 
@@ -310,6 +310,11 @@ test: install
 # The edit-test loop: everything but the tests marked slow (pipelines, corpus-wide runs).
 test-fast: install
 	$(BIN)/python -m pytest -q -m "not slow"
+
+# ruff's lint and format rules are in pyproject.toml
+lint: install
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
 
 bench: install
 	$(BIN)/python benchmarks/run.py

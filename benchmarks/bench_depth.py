@@ -20,16 +20,22 @@ from pathlib import Path
 
 from common import DATA, report
 
-from mvtools.datasets import (cones_multiview, estimate_cones_disparities,
-                              load_middlebury_ground_truth, middlebury_pair,
-                              opencv_sgbm_reference, score_middlebury, write_cones_case)
+from mvtools.datasets import (
+    cones_multiview,
+    estimate_cones_disparities,
+    load_middlebury_ground_truth,
+    middlebury_pair,
+    opencv_sgbm_reference,
+    score_middlebury,
+    write_cones_case,
+)
 from mvtools.depth import COSTS, PAIR_METHODS, estimate_disparity
 from mvtools.io.middlebury import MIDDLEBURY_SETS
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.metrics import psnr
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from synthesize_runner import run_synthesize  # noqa: E402
+from synthesize_runner import run_synthesize
 
 SETS = ("tsukuba", "venus", "teddy", "cones", "Art", "Dolls", "Moebius")
 
@@ -40,8 +46,12 @@ COST_METHODS = ("bp", "graphcut")
 def _configurations(methods: list[str]) -> list[tuple[str, str, str]]:
     """(label, method, cost) of every measured combination."""
     return [(method, method, "ad-census") for method in methods] + [
-        (f"{method}+{cost}", method, cost) for cost in COSTS if cost != "ad-census"
-        for method in COST_METHODS if method in methods]
+        (f"{method}+{cost}", method, cost)
+        for cost in COSTS
+        if cost != "ad-census"
+        for method in COST_METHODS
+        if method in methods
+    ]
 
 
 def _timed(function):
@@ -57,23 +67,33 @@ def main() -> None:
     # compile every kernel once so that no timing includes numba's compilation
     left, right = middlebury_pair(root, "tsukuba")
     for _, method, cost in _configurations(methods):
-        estimate_disparity(left[:64, :96], right[:64, :96], max_disparity=15, method=method,
-                           cost=cost)
+        estimate_disparity(
+            left[:64, :96], right[:64, :96], max_disparity=15, method=method, cost=cost
+        )
     rows = []
     for name in names:
         entry = MIDDLEBURY_SETS[name]
         left, right = middlebury_pair(root, name)
         truth = load_middlebury_ground_truth(root, name)
-        sgbm, sgbm_seconds = _timed(lambda: opencv_sgbm_reference(
-            left, right, disparities=entry.disparities))
+        sgbm, sgbm_seconds = _timed(
+            lambda: opencv_sgbm_reference(left, right, disparities=entry.disparities)
+        )
         sgbm_bad = score_middlebury(sgbm, truth, name)
         for label, method, cost in _configurations(methods):
-            ours, seconds = _timed(lambda: estimate_disparity(
-                left, right, max_disparity=entry.disparities - 1, method=method, cost=cost))
-            rows.append((f"{name} {label} bad 1.0 %", score_middlebury(ours, truth, name),
-                         "OpenCV StereoSGBM", sgbm_bad))
-            rows.append((f"{name} {label} seconds", seconds, "OpenCV StereoSGBM",
-                         sgbm_seconds))
+            ours, seconds = _timed(
+                lambda: estimate_disparity(
+                    left, right, max_disparity=entry.disparities - 1, method=method, cost=cost
+                )
+            )
+            rows.append(
+                (
+                    f"{name} {label} bad 1.0 %",
+                    score_middlebury(ours, truth, name),
+                    "OpenCV StereoSGBM",
+                    sgbm_bad,
+                )
+            )
+            rows.append((f"{name} {label} seconds", seconds, "OpenCV StereoSGBM", sgbm_seconds))
     end_to_end(methods, rows)
     report(rows)
 
@@ -88,22 +108,33 @@ def cones_im4_psnr(disparities: dict, mode: int) -> float:
         if code:
             raise RuntimeError(err)
         width, height = case.size
-        result = read_frame(Path(folder) / f"synthesized_im4_{width}x{height}_yuv420p.yuv",
-                            YuvFormat(width, height))[0]
+        result = read_frame(
+            Path(folder) / f"synthesized_im4_{width}x{height}_yuv420p.yuv", YuvFormat(width, height)
+        )[0]
     return psnr(case.yuv["im4"][0], result, max_value=255)
 
 
 def end_to_end(methods: list[str], rows: list) -> None:
     root = DATA / "middlebury"
     baseline = estimate_cones_disparities(
-        root, lambda left, right, count: opencv_sgbm_reference(left, right, disparities=count))
+        root, lambda left, right, count: opencv_sgbm_reference(left, right, disparities=count)
+    )
     for configuration, method, cost in _configurations(methods):
-        ours = estimate_cones_disparities(root, lambda left, right, count: estimate_disparity(
-            left, right, max_disparity=count - 1, method=method, cost=cost))
+        ours = estimate_cones_disparities(
+            root,
+            lambda left, right, count: estimate_disparity(
+                left, right, max_disparity=count - 1, method=method, cost=cost
+            ),
+        )
         for mode, label in ((0, "general"), (1, "1D")):
-            rows.append((f"Cones im4, {configuration} depth, {label} (dB; bar 30.5)",
-                         cones_im4_psnr(ours, mode), "SGBM depth, same synthesis",
-                         cones_im4_psnr(baseline, mode)))
+            rows.append(
+                (
+                    f"Cones im4, {configuration} depth, {label} (dB; bar 30.5)",
+                    cones_im4_psnr(ours, mode),
+                    "SGBM depth, same synthesis",
+                    cones_im4_psnr(baseline, mode),
+                )
+            )
 
 
 if __name__ == "__main__":

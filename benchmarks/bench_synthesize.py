@@ -25,15 +25,14 @@ import time
 from pathlib import Path
 
 import cv2
-
 from common import DATA, report
+
 from mvtools.cli.configs import load_config
 from mvtools.cli.main import cli
 from mvtools.cli.synthesize import synthesis_options
-from mvtools.geometry.depth import DepthCoding
-from mvtools.synthesis.working import to_working
 from mvtools.datasets import cones_multiview, write_cones_case
 from mvtools.geometry.camera import Camera
+from mvtools.geometry.depth import DepthCoding
 from mvtools.io.cameras import read_cameras, write_cameras
 from mvtools.io.config import write_config
 from mvtools.io.yuv import YuvFormat, frame_from_luma, read_frame, write_video
@@ -41,6 +40,7 @@ from mvtools.metrics import iv_psnr, psnr
 from mvtools.params import VsrsParams
 from mvtools.synthesis import ReferenceView
 from mvtools.synthesis.pipeline import Synthesizer
+from mvtools.synthesis.working import to_working
 
 KENDO = DATA / "mpeg" / "kendo"
 KENDO_CONFIG = KENDO / "config" / "VSRS" / "vsrs_kendo_ori.cfg"
@@ -48,8 +48,11 @@ SPEED_FRAMES = 12
 
 
 def _synthesize(config: Path, *settings: str, cwd: Path) -> None:
-    subprocess.run([sys.executable, "-m", "mvtools", "synthesize", str(config), "-q", *settings],
-                   cwd=cwd, check=True)
+    subprocess.run(
+        [sys.executable, "-m", "mvtools", "synthesize", str(config), "-q", *settings],
+        cwd=cwd,
+        check=True,
+    )
 
 
 def cones_quality(rows: list) -> None:
@@ -61,16 +64,34 @@ def cones_quality(rows: list) -> None:
     for mode, name, vsrs in ((1, "1D", 30.85), (0, "general", 30.29)):
         for precision, noise_removal in ((2, 0), (8, 1)):
             with tempfile.TemporaryDirectory() as folder:
-                config = write_cones_case(case, folder, synthesis_mode=mode, precision=precision,
-                                          boundary_noise_removal=noise_removal)
+                config = write_cones_case(
+                    case,
+                    folder,
+                    synthesis_mode=mode,
+                    precision=precision,
+                    boundary_noise_removal=noise_removal,
+                )
                 _synthesize(config, cwd=Path(folder))
-                result = read_frame(Path(folder) / f"synthesized_im4_{fmt.width}x{fmt.height}_yuv420p.yuv",
-                                    fmt)
+                result = read_frame(
+                    Path(folder) / f"synthesized_im4_{fmt.width}x{fmt.height}_yuv420p.yuv", fmt
+                )
             label = f"{name} mode, P{precision}{', BNR' if noise_removal else ''}"
-            rows.append((f"Cones im4 Y-PSNR, {label} (dB; bar 32.0)",
-                         psnr(truth[0], result[0], max_value=255), "VSRS 4.2 at best, quoted", vsrs))
-            rows.append((f"Cones im4 IV-PSNR, {label} (dB)", iv_psnr(truth, result, bits=8),
-                         "no VSRS figure quoted", None))
+            rows.append(
+                (
+                    f"Cones im4 Y-PSNR, {label} (dB; bar 32.0)",
+                    psnr(truth[0], result[0], max_value=255),
+                    "VSRS 4.2 at best, quoted",
+                    vsrs,
+                )
+            )
+            rows.append(
+                (
+                    f"Cones im4 IV-PSNR, {label} (dB)",
+                    iv_psnr(truth, result, bits=8),
+                    "no VSRS figure quoted",
+                    None,
+                )
+            )
 
 
 def _kendo_references(loaded, params) -> list[ReferenceView]:
@@ -78,32 +99,57 @@ def _kendo_references(loaded, params) -> list[ReferenceView]:
     for side in ("left", "right"):
         texture = read_frame(loaded.inputs[f"{side}_view_image_name"], YuvFormat(1024, 768))
         depth = read_frame(loaded.inputs[f"{side}_depth_map_name"], YuvFormat(1024, 768))[0]
-        coding = DepthCoding(getattr(params, f"{side}_depth_range"), 8,
-                             depth_type=params.depth_type)
-        views.append(ReferenceView(loaded.cameras[f"{side}_camera_name"],
-                                   to_working(texture, color_space=params.color_space, bits=8), coding.z(depth)))
+        coding = DepthCoding(
+            getattr(params, f"{side}_depth_range"), 8, depth_type=params.depth_type
+        )
+        views.append(
+            ReferenceView(
+                loaded.cameras[f"{side}_camera_name"],
+                to_working(texture, color_space=params.color_space, bits=8),
+                coding.z(depth),
+            )
+        )
     return views
 
 
 def kendo_speed(rows: list) -> None:
-    for mode, precision, name, vsrs, bar in ((0, 4, "general", 2.5, 0.10), (1, 2, "1D", 0.40, 0.05)):
+    for mode, precision, name, vsrs, bar in (
+        (0, 4, "general", 2.5, 0.10),
+        (1, 2, "1D", 0.40, 0.05),
+    ):
         settings = [f"SynthesisMode={mode}", f"Precision={precision}"]
         loaded = load_config(VsrsParams, KENDO_CONFIG, overrides=settings, data_dirs=[KENDO])
         params = loaded.params
         references = _kendo_references(loaded, params)
-        synthesizer = Synthesizer(loaded.cameras["virtual_camera_name"],
-                                  [view.camera for view in references], synthesis_options(params),
-                                  size=(1024, 768), depth_range=params.left_depth_range)
+        synthesizer = Synthesizer(
+            loaded.cameras["virtual_camera_name"],
+            [view.camera for view in references],
+            synthesis_options(params),
+            size=(1024, 768),
+            depth_range=params.left_depth_range,
+        )
         synthesizer.frame(references)  # compilation and caches
         times = []
         for _ in range(SPEED_FRAMES):
             start = time.perf_counter()
             synthesizer.frame(references)
             times.append(time.perf_counter() - start)
-        rows.append((f"Kendo {name} mode, Precision {precision} (s/frame; bar {bar})",
-                     statistics.median(times), "VSRS 4.2, one core, quoted", vsrs))
-        rows.append((f"  whole program, {name} mode (s/frame)", _program_seconds_per_frame(settings),
-                     "VSRS 4.2, one core, quoted", vsrs))
+        rows.append(
+            (
+                f"Kendo {name} mode, Precision {precision} (s/frame; bar {bar})",
+                statistics.median(times),
+                "VSRS 4.2, one core, quoted",
+                vsrs,
+            )
+        )
+        rows.append(
+            (
+                f"  whole program, {name} mode (s/frame)",
+                _program_seconds_per_frame(settings),
+                "VSRS 4.2, one core, quoted",
+                vsrs,
+            )
+        )
 
 
 def _program_seconds_per_frame(settings: list[str]) -> float:
@@ -114,13 +160,26 @@ def _program_seconds_per_frame(settings: list[str]) -> float:
     with tempfile.TemporaryDirectory() as folder:
         folder = Path(folder)
         names = []
-        for key, name in (("LeftViewImageName", "kendo_ori_I_1"), ("RightViewImageName", "kendo_ori_I_3"),
-                          ("LeftDepthMapName", "kendo_ori_D_1"), ("RightDepthMapName", "kendo_ori_D_3")):
+        for key, name in (
+            ("LeftViewImageName", "kendo_ori_I_1"),
+            ("RightViewImageName", "kendo_ori_I_3"),
+            ("LeftDepthMapName", "kendo_ori_D_1"),
+            ("RightDepthMapName", "kendo_ori_D_3"),
+        ):
             frame = read_frame(KENDO / f"{name}.yuv", fmt)
             write_video(folder / f"{name}.yuv", fmt, [frame] * (SPEED_FRAMES + 1))
             names.append(f"{key}={folder / name}.yuv")
-        arguments = ["synthesize", str(KENDO_CONFIG), "-q", "--data-dir", str(KENDO), *settings, *names,
-                     "-o", str(folder / "out.yuv")]
+        arguments = [
+            "synthesize",
+            str(KENDO_CONFIG),
+            "-q",
+            "--data-dir",
+            str(KENDO),
+            *settings,
+            *names,
+            "-o",
+            str(folder / "out.yuv"),
+        ]
         seconds = {}
         for count in (1, 1, SPEED_FRAMES + 1):
             start = time.perf_counter()
@@ -156,37 +215,71 @@ def memory_1080p(rows: list) -> None:
     cameras = read_cameras(KENDO_CONFIG.parent / "cam_param_kendo.cfg")
     with tempfile.TemporaryDirectory() as folder:
         folder = Path(folder)
-        write_cameras(folder / "cameras.txt", [_scaled(cameras[f"param_kendo0{i}"], sx, sy) for i in (1, 2, 3)])
+        write_cameras(
+            folder / "cameras.txt",
+            [_scaled(cameras[f"param_kendo0{i}"], sx, sy) for i in (1, 2, 3)],
+        )
         for name in ("I_1", "I_3", "D_1", "D_3"):
             planes = read_frame(KENDO / f"kendo_ori_{name}.yuv", source)
             if name.startswith("D"):
                 luma = cv2.resize(planes[0], target.size, interpolation=cv2.INTER_NEAREST)
                 frame = frame_from_luma(target, luma)
             else:
-                frame = tuple(cv2.resize(plane, (shape[1], shape[0]), interpolation=cv2.INTER_LINEAR)
-                              for plane, shape in zip(planes, target.plane_shapes))
+                frame = tuple(
+                    cv2.resize(plane, (shape[1], shape[0]), interpolation=cv2.INTER_LINEAR)
+                    for plane, shape in zip(planes, target.plane_shapes)
+                )
             write_video(folder / f"{name}.yuv", target, [frame] * 8)
         reference = load_config(VsrsParams, KENDO_CONFIG, data_dirs=[KENDO]).params
         params = VsrsParams(
-            source_width=target.width, source_height=target.height, total_number_of_frames=8,
+            source_width=target.width,
+            source_height=target.height,
+            total_number_of_frames=8,
             left_nearest_depth_value=reference.left_nearest_depth_value,
             left_farthest_depth_value=reference.left_farthest_depth_value,
             right_nearest_depth_value=reference.right_nearest_depth_value,
             right_farthest_depth_value=reference.right_farthest_depth_value,
-            camera_parameter_file="cameras.txt", left_camera_name="param_kendo01",
-            virtual_camera_name="param_kendo02", right_camera_name="param_kendo03",
-            left_view_image_name="I_1.yuv", right_view_image_name="I_3.yuv",
-            left_depth_map_name="D_1.yuv", right_depth_map_name="D_3.yuv",
-            output_virtual_view_image_name="out.yuv", precision=4)
+            camera_parameter_file="cameras.txt",
+            left_camera_name="param_kendo01",
+            virtual_camera_name="param_kendo02",
+            right_camera_name="param_kendo03",
+            left_view_image_name="I_1.yuv",
+            right_view_image_name="I_3.yuv",
+            left_depth_map_name="D_1.yuv",
+            right_depth_map_name="D_3.yuv",
+            output_virtual_view_image_name="out.yuv",
+            precision=4,
+        )
         write_config(folder / "big.cfg", params)
         for frames in (2, 8):
             completed = subprocess.run(
-                [sys.executable, "-c", _PEAK, str(folder / "big.cfg"), "-q", "--frames", str(frames),
-                 "--output-depth", "depth.yuv", "--output-holes", "holes.yuv"],
-                cwd=folder, check=True, capture_output=True, text=True)
+                [
+                    sys.executable,
+                    "-c",
+                    _PEAK,
+                    str(folder / "big.cfg"),
+                    "-q",
+                    "--frames",
+                    str(frames),
+                    "--output-depth",
+                    "depth.yuv",
+                    "--output-holes",
+                    "holes.yuv",
+                ],
+                cwd=folder,
+                check=True,
+                capture_output=True,
+                text=True,
+            )
             peak = float(completed.stdout.split()[-1])
-            rows.append((f"1920x1080 general mode, {frames} frames: peak RSS (MB)", peak,
-                         "the bar, issue 3", 400.0))
+            rows.append(
+                (
+                    f"1920x1080 general mode, {frames} frames: peak RSS (MB)",
+                    peak,
+                    "the bar, issue 3",
+                    400.0,
+                )
+            )
 
 
 def main() -> None:

@@ -5,8 +5,8 @@ from __future__ import annotations
 import os
 import statistics
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 DATA = Path(os.environ.get("MVTOOLS_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
 
@@ -30,4 +30,6 @@ def report(rows: list[tuple[str, float, str, float | None]]) -> None:
         if baseline is None:
             print(f"{what:<46}{ours:>11.4g}{'':>11}{'':>8}  {baseline_name}")
         else:
-            print(f"{what:<46}{ours:>11.4g}{baseline:>11.4g}{ours / baseline:>8.2f}  {baseline_name}")
+            print(
+                f"{what:<46}{ours:>11.4g}{baseline:>11.4g}{ours / baseline:>8.2f}  {baseline_name}"
+            )

@@ -12,23 +12,36 @@ import cv2
 import numpy as np
 
 from mvtools.color.space import rgb_to_yuv
+from mvtools.depth.refine import fill_from_background
 from mvtools.errors import UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import z_to_depth
 from mvtools.io.cameras import write_cameras
 from mvtools.io.config import write_config
 from mvtools.io.images import read_image
-from mvtools.io.middlebury import (MIDDLEBURY_SETS, check_same_size, read_ground_truth,
-                                   read_nonoccluded_mask)
+from mvtools.io.middlebury import (
+    MIDDLEBURY_SETS,
+    check_same_size,
+    read_ground_truth,
+    read_nonoccluded_mask,
+)
 from mvtools.io.yuv import YuvFormat, frame_from_luma, write_video
-from mvtools.depth.refine import fill_from_background
 from mvtools.metrics.disparity import nonoccluded_from_other_view, score_disparity
 from mvtools.params import VsrsParams
 
-__all__ = ["MiddleburyGroundTruth", "load_middlebury_ground_truth", "nonoccluded_pixels",
-           "ConesCase", "cones_multiview", "write_cones_case", "fill_from_farther_neighbour",
-           "middlebury_pair", "score_middlebury", "opencv_sgbm_reference",
-           "estimate_cones_disparities"]
+__all__ = [
+    "ConesCase",
+    "MiddleburyGroundTruth",
+    "cones_multiview",
+    "estimate_cones_disparities",
+    "fill_from_farther_neighbour",
+    "load_middlebury_ground_truth",
+    "middlebury_pair",
+    "nonoccluded_pixels",
+    "opencv_sgbm_reference",
+    "score_middlebury",
+    "write_cones_case",
+]
 
 
 @dataclass(frozen=True)
@@ -49,9 +62,14 @@ class MiddleburyGroundTruth:
     nonoccluded: np.ndarray | None
 
 
-def nonoccluded_pixels(ground_truth: np.ndarray, known: np.ndarray, *, scale: float,
-                       mask_path: str | os.PathLike | None = None,
-                       other_view_path: str | os.PathLike | None = None) -> np.ndarray | None:
+def nonoccluded_pixels(
+    ground_truth: np.ndarray,
+    known: np.ndarray,
+    *,
+    scale: float,
+    mask_path: str | os.PathLike | None = None,
+    other_view_path: str | os.PathLike | None = None,
+) -> np.ndarray | None:
     """Non-occluded known pixels, from a mask file (2003 sets) or from the other view's
     ground truth (2005 rule); None when neither is given."""
     if mask_path is not None:
@@ -76,15 +94,19 @@ def load_middlebury_ground_truth(root: str | os.PathLike, name: str) -> Middlebu
         Key of :data:`MIDDLEBURY_SETS`.
     """
     if name not in MIDDLEBURY_SETS:
-        raise UsageError(f"unknown Middlebury set; known sets: {', '.join(MIDDLEBURY_SETS)}",
-                         key=name)
+        raise UsageError(
+            f"unknown Middlebury set; known sets: {', '.join(MIDDLEBURY_SETS)}", key=name
+        )
     entry = MIDDLEBURY_SETS[name]
     root = Path(root)
     disparity, known = read_ground_truth(root / entry.ground_truth, scale=entry.scale)
     nonoccluded = nonoccluded_pixels(
-        disparity, known, scale=entry.scale,
+        disparity,
+        known,
+        scale=entry.scale,
         mask_path=root / entry.nonoccluded_mask if entry.nonoccluded_mask else None,
-        other_view_path=root / entry.right_ground_truth if entry.right_ground_truth else None)
+        other_view_path=root / entry.right_ground_truth if entry.right_ground_truth else None,
+    )
     return MiddleburyGroundTruth(disparity, known, nonoccluded)
 
 
@@ -166,9 +188,12 @@ def fill_from_farther_neighbour(disparity: np.ndarray, known: np.ndarray) -> np.
     return np.where(known, disparity, np.where(np.isnan(filled), disparity[known].min(), filled))
 
 
-def cones_multiview(middlebury_root: str | os.PathLike, *,
-                    size: tuple[int, int] = CONES_SIZE,
-                    disparities: dict[str, np.ndarray] | None = None) -> ConesCase:
+def cones_multiview(
+    middlebury_root: str | os.PathLike,
+    *,
+    size: tuple[int, int] = CONES_SIZE,
+    disparities: dict[str, np.ndarray] | None = None,
+) -> ConesCase:
     """The Cones multiview-plus-depth case of the synthesis benchmarks.
 
     Parameters
@@ -194,8 +219,9 @@ def cones_multiview(middlebury_root: str | os.PathLike, *,
     for name in CONES_CENTRES:
         image = read_image(folder / f"{name}.png")
         if image.ndim != 3 or width > image.shape[1] or height > image.shape[0]:
-            raise UsageError(f"expected an RGB picture of at least {width}x{height}",
-                             path=folder / f"{name}.png")
+            raise UsageError(
+                f"expected an RGB picture of at least {width}x{height}", path=folder / f"{name}.png"
+            )
         rgb[name] = np.ascontiguousarray(image[:height, :width])
     ground_truth = {}
     for name in ("im2", "im6"):
@@ -203,8 +229,9 @@ def cones_multiview(middlebury_root: str | os.PathLike, *,
             path = folder / f"disp{name[-1]}.png"
             values, known = read_ground_truth(path, scale=1)
             check_same_size(values, image[..., 0], path)
-            ground_truth[name] = fill_from_farther_neighbour(values[:height, :width],
-                                                             known[:height, :width])
+            ground_truth[name] = fill_from_farther_neighbour(
+                values[:height, :width], known[:height, :width]
+            )
         else:
             estimate = np.asarray(disparities[name], np.float64)
             check_same_size(estimate, image[..., 0], f"{name} disparity")
@@ -221,15 +248,18 @@ def cones_multiview(middlebury_root: str | os.PathLike, *,
     # of one ground-truth unit (disparities up to 255 units above the smallest).
     zfar = focal_baseline * CONES_GT_SCALE / smallest
     znear = focal_baseline * CONES_GT_SCALE / (smallest + 255)
-    K = [[CONES_FOCAL, 0.0, (width - 1) / 2], [0.0, CONES_FOCAL, (height - 1) / 2],
-         [0.0, 0.0, 1.0]]
-    cameras = {name: Camera(name, K, t=[x, 0.0, 0.0], size=(width, height))
-               for name, x in CONES_CENTRES.items()}
+    K = [[CONES_FOCAL, 0.0, (width - 1) / 2], [0.0, CONES_FOCAL, (height - 1) / 2], [0.0, 0.0, 1.0]]
+    cameras = {
+        name: Camera(name, K, t=[x, 0.0, 0.0], size=(width, height))
+        for name, x in CONES_CENTRES.items()
+    }
     yuv = {name: rgb_to_yuv(image, chroma="420", bits=8) for name, image in rgb.items()}
     return ConesCase(cameras, rgb, yuv, disparity, z, (float(znear), float(zfar)))
 
 
-def estimate_cones_disparities(middlebury_root: str | os.PathLike, estimate) -> dict[str, np.ndarray]:
+def estimate_cones_disparities(
+    middlebury_root: str | os.PathLike, estimate
+) -> dict[str, np.ndarray]:
     """Disparities of Cones im2 and im6 estimated from that pair alone, ready for
     :func:`cones_multiview` (the end-to-end case of depth estimation).
 
@@ -249,13 +279,19 @@ def estimate_cones_disparities(middlebury_root: str | os.PathLike, estimate) -> 
     """
     folder = Path(middlebury_root) / "2003" / "cones"
     im2, im6 = (read_image(folder / f"{name}.png") for name in ("im2", "im6"))
-    disparities = {"im2": estimate(im2, im6, CONES_DISPARITIES),
-                   "im6": estimate(np.ascontiguousarray(im6[:, ::-1]),
-                                   np.ascontiguousarray(im2[:, ::-1]),
-                                   CONES_DISPARITIES)[:, ::-1]}
+    disparities = {
+        "im2": estimate(im2, im6, CONES_DISPARITIES),
+        "im6": estimate(
+            np.ascontiguousarray(im6[:, ::-1]),
+            np.ascontiguousarray(im2[:, ::-1]),
+            CONES_DISPARITIES,
+        )[:, ::-1],
+    }
     smallest = 1 / CONES_GT_SCALE
-    return {name: np.clip(np.nan_to_num(np.asarray(values, np.float64), nan=smallest),
-                          smallest, None) for name, values in disparities.items()}
+    return {
+        name: np.clip(np.nan_to_num(np.asarray(values, np.float64), nan=smallest), smallest, None)
+        for name, values in disparities.items()
+    }
 
 
 def write_cones_case(case: ConesCase, folder: str | os.PathLike, **settings) -> Path:
@@ -288,22 +324,37 @@ def write_cones_case(case: ConesCase, folder: str | os.PathLike, **settings) -> 
     texture_format = YuvFormat(width, height)
     znear, zfar = case.depth_range
     suffix = f"{width}x{height}_yuv420p.yuv"
-    params = VsrsParams(**{
-        "source_width": width, "source_height": height, "total_number_of_frames": 1,
-        "left_nearest_depth_value": znear, "left_farthest_depth_value": zfar,
-        "right_nearest_depth_value": znear, "right_farthest_depth_value": zfar,
-        "camera_parameter_file": "cameras.txt", "left_camera_name": "im2",
-        "virtual_camera_name": "im4", "right_camera_name": "im6",
-        "left_view_image_name": f"im2_{suffix}", "right_view_image_name": f"im6_{suffix}",
-        "left_depth_map_name": f"im2_depth_{suffix}", "right_depth_map_name": f"im6_depth_{suffix}",
-        "output_virtual_view_image_name": f"synthesized_im4_{suffix}", **settings})
+    params = VsrsParams(
+        **{
+            "source_width": width,
+            "source_height": height,
+            "total_number_of_frames": 1,
+            "left_nearest_depth_value": znear,
+            "left_farthest_depth_value": zfar,
+            "right_nearest_depth_value": znear,
+            "right_farthest_depth_value": zfar,
+            "camera_parameter_file": "cameras.txt",
+            "left_camera_name": "im2",
+            "virtual_camera_name": "im4",
+            "right_camera_name": "im6",
+            "left_view_image_name": f"im2_{suffix}",
+            "right_view_image_name": f"im6_{suffix}",
+            "left_depth_map_name": f"im2_depth_{suffix}",
+            "right_depth_map_name": f"im6_depth_{suffix}",
+            "output_virtual_view_image_name": f"synthesized_im4_{suffix}",
+            **settings,
+        }
+    )
     write_cameras(folder / "cameras.txt", case.cameras)
     for name, planes in case.yuv.items():
         write_video(folder / f"{name}_{suffix}", texture_format, [planes])
     for name, depth_range in (("im2", params.left_depth_range), ("im6", params.right_depth_range)):
         depth = z_to_depth(case.z[name], *depth_range)
-        write_video(folder / f"{name}_depth_{suffix}", texture_format,
-                    [frame_from_luma(texture_format, depth)])
+        write_video(
+            folder / f"{name}_depth_{suffix}",
+            texture_format,
+            [frame_from_luma(texture_format, depth)],
+        )
     config = folder / "synthesize_im4.cfg"
     write_config(config, params)
     return config
@@ -320,12 +371,14 @@ def middlebury_pair(root: str | os.PathLike, name: str) -> tuple[np.ndarray, np.
 SCORED_REGION = {"tsukuba": "all", "venus": "all"}
 
 
-def score_middlebury(disparity: np.ndarray, truth: MiddleburyGroundTruth, name: str, *,
-                     threshold: float = 1.0) -> float:
+def score_middlebury(
+    disparity: np.ndarray, truth: MiddleburyGroundTruth, name: str, *, threshold: float = 1.0
+) -> float:
     """Bad-``threshold`` percentage of a left-view disparity map over the set's scored
     region (:data:`SCORED_REGION`, non-occluded pixels by default)."""
-    score = score_disparity(disparity, truth.disparity, known=truth.known,
-                            nonoccluded=truth.nonoccluded)
+    score = score_disparity(
+        disparity, truth.disparity, known=truth.known, nonoccluded=truth.nonoccluded
+    )
     region = SCORED_REGION.get(name, "nonocc")
     return (score.bad_all if region == "all" else score.bad_nonocc)[threshold]
 
@@ -345,9 +398,14 @@ def opencv_sgbm_reference(left: np.ndarray, right: np.ndarray, *, disparities: i
     -------
     ndarray of float32, shape (H, W)
     """
-    matcher = cv2.StereoSGBM_create(minDisparity=0, numDisparities=-(-disparities // 16) * 16,
-                                    blockSize=5, P1=8 * 3 * 25, P2=32 * 3 * 25,
-                                    mode=cv2.STEREO_SGBM_MODE_HH)
+    matcher = cv2.StereoSGBM_create(
+        minDisparity=0,
+        numDisparities=-(-disparities // 16) * 16,
+        blockSize=5,
+        P1=8 * 3 * 25,
+        P2=32 * 3 * 25,
+        mode=cv2.STEREO_SGBM_MODE_HH,
+    )
     raw = matcher.compute(left[:, :, ::-1], right[:, :, ::-1])
     filled = fill_from_background(raw.astype(np.float32) / 16, raw >= 0)
     return np.nan_to_num(filled, nan=0.0)

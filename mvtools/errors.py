@@ -18,8 +18,14 @@ class MvtoolsError(Exception):
 
     exit_code = 1
 
-    def __init__(self, message: str, *, path: str | os.PathLike | None = None,
-                 line: int | None = None, key: str | None = None):
+    def __init__(
+        self,
+        message: str,
+        *,
+        path: str | os.PathLike | None = None,
+        line: int | None = None,
+        key: str | None = None,
+    ):
         super().__init__(message)
         self.message = message
         self.path = os.fspath(path) if path is not None else None
@@ -52,8 +58,13 @@ class DataError(MvtoolsError):
 
 
 @contextlib.contextmanager
-def at_fault(kind: type[MvtoolsError] = UsageError, *, path: str | os.PathLike | None = None,
-             key: str | None = None, prefix: str = "") -> Iterator[None]:
+def at_fault(
+    kind: type[MvtoolsError] = UsageError,
+    *,
+    path: str | os.PathLike | None = None,
+    key: str | None = None,
+    prefix: str = "",
+) -> Iterator[None]:
     """A ValueError raised in the block (the algorithm layer's word for a value it cannot
     use) becomes ``kind`` naming the place that gave the value: an option (``key``), a
     file (``path``), a frame (``prefix="frame 3: "``).

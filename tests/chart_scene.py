@@ -11,8 +11,9 @@ GAP, BORDER = 0.2, 0.5
 AREA = (6 + 5 * GAP, 4 + 3 * GAP)
 BODY, BACKGROUND = 0.08, 0.5
 CORNERS = np.array([[52.0, 48.0], [268.0, 34.0], [290.0, 200.0], [38.0, 186.0]])
-MISMATCH = ColorMismatch(gain=(0.97, 0.92, 1.04), offset=(0.02, -0.015, 0.01),
-                         gamma=(0.9, 1.08, 1.12))
+MISMATCH = ColorMismatch(
+    gain=(0.97, 0.92, 1.04), offset=(0.02, -0.015, 0.01), gamma=(0.9, 1.08, 1.12)
+)
 
 
 def render_chart(colours, corners, size=(320, 240), samples=4):
@@ -30,14 +31,21 @@ def render_chart(colours, corners, size=(320, 240), samples=4):
             point = np.stack([xs + dx, ys + dy, np.ones_like(xs)], axis=-1) @ to_flat.T
             u, v = point[..., 0] / point[..., 2], point[..., 1] / point[..., 2]
             colour = np.full((height, width, 3), BACKGROUND)
-            colour[(u > -BORDER) & (u < AREA[0] + BORDER)
-                   & (v > -BORDER) & (v < AREA[1] + BORDER)] = BODY
+            colour[
+                (u > -BORDER) & (u < AREA[0] + BORDER) & (v > -BORDER) & (v < AREA[1] + BORDER)
+            ] = BODY
             column, row = np.floor(u / (1 + GAP)), np.floor(v / (1 + GAP))
-            patch = ((u - column * (1 + GAP) < 1) & (v - row * (1 + GAP) < 1)
-                     & (column >= 0) & (column < 6) & (row >= 0) & (row < 4))
+            patch = (
+                (u - column * (1 + GAP) < 1)
+                & (v - row * (1 + GAP) < 1)
+                & (column >= 0)
+                & (column < 6)
+                & (row >= 0)
+                & (row < 4)
+            )
             colour[patch] = colours[(row * 6 + column)[patch].astype(int)]
             image += colour
-    return image / samples ** 2
+    return image / samples**2
 
 
 def photograph(colours, corners, *, seed=0):

@@ -19,7 +19,8 @@ def write_mirrored_cameras(source: Path, target: Path) -> None:
     for camera in read_cameras(source).values():
         rows = [" ".join(f"{value:.17g}" for value in row) for row in camera.K]
         rows += ["0", "0"]
-        rows += [" ".join(f"{value:.17g}" for value in (*camera.R[i], -camera.t[i]))
-                 for i in range(3)]
+        rows += [
+            " ".join(f"{value:.17g}" for value in (*camera.R[i], -camera.t[i])) for i in range(3)
+        ]
         blocks.append(f"{camera.name}\n" + "\n".join(rows) + "\n")
     target.write_text("\n".join(blocks))

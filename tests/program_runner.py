@@ -11,8 +11,9 @@ from click.testing import CliRunner
 
 def run(*args, cwd=None):
     """``python -m mvtools ARGS`` in a new interpreter: (exit code, stdout, stderr)."""
-    completed = subprocess.run([sys.executable, "-m", "mvtools", *map(str, args)],
-                               capture_output=True, text=True, cwd=cwd)
+    completed = subprocess.run(
+        [sys.executable, "-m", "mvtools", *map(str, args)], capture_output=True, text=True, cwd=cwd
+    )
     return completed.returncode, completed.stdout, completed.stderr
 
 

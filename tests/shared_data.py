@@ -23,8 +23,10 @@ def shared_data(*parts: str) -> Path:
     """Path of a file or folder of the published material, or skip/fail the test."""
     path = data_root().joinpath(*parts)
     if not path.exists():
-        reason = (f"published test material not found: {path} "
-                  "(set MVTOOLS_DATA to the folder holding middlebury/ and mpeg/)")
+        reason = (
+            f"published test material not found: {path} "
+            "(set MVTOOLS_DATA to the folder holding middlebury/ and mpeg/)"
+        )
         if os.environ.get("MVTOOLS_REQUIRE_DATA") == "1":
             pytest.fail(reason + "; MVTOOLS_REQUIRE_DATA=1 forbids skipping")
         pytest.skip(reason)

@@ -14,14 +14,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from program_runner import assert_one_line_error, invoke
+from shared_data import shared_data
 
 from mvtools.cli import calibrate
 from mvtools.io.cameras import read_cameras
 from mvtools.io.images import read_image, write_image
 from mvtools.io.json_cameras import read_json_cameras
 from mvtools.io.yuv import YuvFormat, write_video
-from program_runner import assert_one_line_error, invoke
-from shared_data import shared_data
 
 CHECKERBOARD = Path(__file__).resolve().parent.parent / "sample_data" / "checkerboard"
 
@@ -36,10 +36,20 @@ def sample_rig(tmp_path_factory):
     out = tmp_path_factory.mktemp("calibrate")
     truth = json.loads((CHECKERBOARD / "truth.json").read_text())
     names = [camera["name"] for camera in truth["cameras"]]
-    code, stdout, stderr = invoke(calibrate.command, *(CHECKERBOARD / name for name in names),
-                                  "--board", "9x6", "--square", "0.05",
-                                  "-o", out / "cameras.txt", "--json", out / "cameras.json",
-                                  "--report", out / "report")
+    code, stdout, stderr = invoke(
+        calibrate.command,
+        *(CHECKERBOARD / name for name in names),
+        "--board",
+        "9x6",
+        "--square",
+        "0.05",
+        "-o",
+        out / "cameras.txt",
+        "--json",
+        out / "cameras.json",
+        "--report",
+        out / "report",
+    )
     assert code == 0, stderr
     return truth, out, stdout
 
@@ -72,10 +82,16 @@ def test_sample_rig_report_lists_the_captures_each_camera_saw(sample_rig):
     for entry in report["cameras"]:
         name = entry["name"]
         corners = [np.array(capture["corners"][name]) for capture in truth["captures"]]
-        inside = {f"capture{index:02d}.png" for index, uv in enumerate(corners)
-                  if np.all(uv >= 0) and np.all(uv < [640, 480])}
-        visible = {f"capture{index:02d}.png" for index, capture in enumerate(truth["captures"])
-                   if capture["visible"][name]}
+        inside = {
+            f"capture{index:02d}.png"
+            for index, uv in enumerate(corners)
+            if np.all(uv >= 0) and np.all(uv < [640, 480])
+        }
+        visible = {
+            f"capture{index:02d}.png"
+            for index, capture in enumerate(truth["captures"])
+            if capture["visible"][name]
+        }
         used = {Path(path).name for path in entry["captures_used"]}
         # a board partly out of view is never taken; nearly every one in full view (10 px
         # from the border) is found
@@ -102,10 +118,19 @@ def test_sample_rig_json_holds_the_same_pinhole_cameras(sample_rig):
 
 def test_opencv_stereo_captures_by_pattern(tmp_path):
     folder = shared_data("calibration", "opencv_stereo")
-    code, stdout, stderr = invoke(calibrate.command, folder / "left[0-9]*.jpg",
-                                  folder / "right[0-9]*.jpg",
-                                  "--board", "9x6", "--square", "0.025",
-                                  "-o", tmp_path / "stereo.txt", "--report", tmp_path / "report")
+    code, _stdout, stderr = invoke(
+        calibrate.command,
+        folder / "left[0-9]*.jpg",
+        folder / "right[0-9]*.jpg",
+        "--board",
+        "9x6",
+        "--square",
+        "0.025",
+        "-o",
+        tmp_path / "stereo.txt",
+        "--report",
+        tmp_path / "report",
+    )
     assert code == 0, stderr
     cameras = read_cameras(tmp_path / "stereo.txt")
     assert set(cameras) == {"left", "right"}
@@ -130,8 +155,17 @@ def test_no_board_in_any_capture_names_the_camera(tmp_path):
     blank = np.full((480, 640), 128, np.uint8)
     write_captures(tmp_path / "camA", [sample_capture("cam0", index) for index in range(4)])
     write_captures(tmp_path / "camB", [blank] * 4)
-    code, _, stderr = invoke(calibrate.command, tmp_path / "camA", tmp_path / "camB",
-                             "--board", "9x6", "--square", "0.05", "-o", tmp_path / "out.txt")
+    code, _, stderr = invoke(
+        calibrate.command,
+        tmp_path / "camA",
+        tmp_path / "camB",
+        "--board",
+        "9x6",
+        "--square",
+        "0.05",
+        "-o",
+        tmp_path / "out.txt",
+    )
     assert code == 1
     assert_one_line_error(stderr, "camB")
     assert not (tmp_path / "out.txt").exists()
@@ -140,8 +174,17 @@ def test_no_board_in_any_capture_names_the_camera(tmp_path):
 def test_different_capture_counts_are_a_usage_error(tmp_path):
     write_captures(tmp_path / "camA", [sample_capture("cam0", index) for index in range(3)])
     write_captures(tmp_path / "camB", [sample_capture("cam1", index) for index in range(2)])
-    code, _, stderr = invoke(calibrate.command, tmp_path / "camA", tmp_path / "camB",
-                             "--board", "9x6", "--square", "0.05", "-o", tmp_path / "out.txt")
+    code, _, stderr = invoke(
+        calibrate.command,
+        tmp_path / "camA",
+        tmp_path / "camB",
+        "--board",
+        "9x6",
+        "--square",
+        "0.05",
+        "-o",
+        tmp_path / "out.txt",
+    )
     assert code == 2
     assert_one_line_error(stderr, "camA 3", "camB 2")
     assert not (tmp_path / "out.txt").exists()
@@ -151,21 +194,39 @@ def test_a_capture_of_another_size_names_its_file(tmp_path):
     images = [sample_capture("cam0", index) for index in range(3)]
     images[1] = images[1][:240, :320]
     write_captures(tmp_path / "camA", images)
-    code, _, stderr = invoke(calibrate.command, tmp_path / "camA", "--board", "9x6",
-                             "--square", "0.05", "-o", tmp_path / "out.txt")
+    code, _, stderr = invoke(
+        calibrate.command,
+        tmp_path / "camA",
+        "--board",
+        "9x6",
+        "--square",
+        "0.05",
+        "-o",
+        tmp_path / "out.txt",
+    )
     assert code == 1
     assert_one_line_error(stderr, "capture01.png", "320x240")
     assert not (tmp_path / "out.txt").exists()
 
 
-@pytest.mark.parametrize("arguments, fragment", [
-    (["--board", "9"], "COLUMNSxROWS"),
-    (["--board", "9x6", "--reference", "nosuch"], "nosuch"),
-    (["--board", "9x6", "--names", "a,b"], "--names"),
-])
+@pytest.mark.parametrize(
+    "arguments, fragment",
+    [
+        (["--board", "9"], "COLUMNSxROWS"),
+        (["--board", "9x6", "--reference", "nosuch"], "nosuch"),
+        (["--board", "9x6", "--names", "a,b"], "--names"),
+    ],
+)
 def test_bad_options_exit_2(tmp_path, arguments, fragment):
-    code, _, stderr = invoke(calibrate.command, CHECKERBOARD / "cam0", "--square", "0.05",
-                             "-o", tmp_path / "out.txt", *arguments)
+    code, _, stderr = invoke(
+        calibrate.command,
+        CHECKERBOARD / "cam0",
+        "--square",
+        "0.05",
+        "-o",
+        tmp_path / "out.txt",
+        *arguments,
+    )
     assert code == 2
     assert_one_line_error(stderr, fragment)
     assert not (tmp_path / "out.txt").exists()
@@ -173,8 +234,16 @@ def test_bad_options_exit_2(tmp_path, arguments, fragment):
 
 def test_empty_folder_is_a_usage_error(tmp_path):
     (tmp_path / "empty").mkdir()
-    code, _, stderr = invoke(calibrate.command, tmp_path / "empty", "--board", "9x6",
-                             "--square", "0.05", "-o", tmp_path / "out.txt")
+    code, _, stderr = invoke(
+        calibrate.command,
+        tmp_path / "empty",
+        "--board",
+        "9x6",
+        "--square",
+        "0.05",
+        "-o",
+        tmp_path / "out.txt",
+    )
     assert code == 2
     assert_one_line_error(stderr, "empty", "no images")
 
@@ -186,31 +255,56 @@ def test_captures_from_grey_videos(tmp_path):
         path = tmp_path / f"{camera}_640x480_gray.yuv"
         write_video(path, fmt, [(sample_capture(camera, index),) for index in range(12)])
         videos.append(path)
-    code, stdout, stderr = invoke(calibrate.command, *videos, "--board", "9x6",
-                                  "--square", "0.05", "-o", tmp_path / "cameras.txt")
+    code, _stdout, stderr = invoke(
+        calibrate.command,
+        *videos,
+        "--board",
+        "9x6",
+        "--square",
+        "0.05",
+        "-o",
+        tmp_path / "cameras.txt",
+    )
     assert code == 0, stderr
-    truth = {camera["name"]: camera for camera in
-             json.loads((CHECKERBOARD / "truth.json").read_text())["cameras"]}
+    truth = {
+        camera["name"]: camera
+        for camera in json.loads((CHECKERBOARD / "truth.json").read_text())["cameras"]
+    }
     cameras = read_cameras(tmp_path / "cameras.txt")
     assert set(cameras) == {"cam1", "cam2"}
     for name, camera in cameras.items():
         assert camera.fx == pytest.approx(truth[name]["K"][0][0], rel=0.002)
     true_baseline = np.linalg.norm(np.subtract(truth["cam2"]["t"], truth["cam1"]["t"]))
     assert np.linalg.norm(cameras["cam2"].t - cameras["cam1"].t) == pytest.approx(
-        true_baseline, rel=0.005)
+        true_baseline, rel=0.005
+    )
 
 
 def test_a_camera_never_seeing_the_board_with_the_others_is_named(tmp_path):
     blank = np.full((480, 640), 128, np.uint8)
     seen_by_first = [0, 2, 3]
     seen_by_second = [4, 6, 7]
-    write_captures(tmp_path / "camA", [sample_capture("cam2", index) if index in seen_by_first
-                                       else blank for index in range(8)])
-    write_captures(tmp_path / "camB", [sample_capture("cam3", index) if index in seen_by_second
-                                       else blank for index in range(8)])
-    code, _, stderr = invoke(calibrate.command, tmp_path / "camA", tmp_path / "camB",
-                             "--board", "9x6", "--square", "0.05", "-o", tmp_path / "out.txt")
+    write_captures(
+        tmp_path / "camA",
+        [sample_capture("cam2", index) if index in seen_by_first else blank for index in range(8)],
+    )
+    write_captures(
+        tmp_path / "camB",
+        [sample_capture("cam3", index) if index in seen_by_second else blank for index in range(8)],
+    )
+    code, _, stderr = invoke(
+        calibrate.command,
+        tmp_path / "camA",
+        tmp_path / "camB",
+        "--board",
+        "9x6",
+        "--square",
+        "0.05",
+        "-o",
+        tmp_path / "out.txt",
+    )
     assert code == 1
-    assert_one_line_error(stderr, "camB", "never sees the board together with camA",
-                          "capture04.png")
+    assert_one_line_error(
+        stderr, "camB", "never sees the board together with camA", "capture04.png"
+    )
     assert not (tmp_path / "out.txt").exists()

@@ -76,8 +76,9 @@ def test_spot_values_of_shipped_files():
     kendo = read_cameras(shared_data(*KENDO_CAMERAS))
     np.testing.assert_array_equal(kendo["param_kendo01"].t, [5.0, 0.0, 0.0])
     np.testing.assert_array_equal(kendo["param_kendo03"].t, [15.0, 0.0, 0.0])
-    np.testing.assert_array_equal(kendo["param_kendo01"].K,
-                                  [[2241.25607, 0, 701.5], [0, 2241.25607, 514.5], [0, 0, 1]])
+    np.testing.assert_array_equal(
+        kendo["param_kendo01"].K, [[2241.25607, 0, 701.5], [0, 2241.25607, 514.5], [0, 0, 1]]
+    )
     assert kendo["param_kendo02.5"].t[0] == 12.5
     assert len(kendo) == 36
 
@@ -94,7 +95,9 @@ def test_spot_values_of_shipped_files():
 
 
 def test_butterfly_arc_file_loads_its_cameras_despite_the_header_table():
-    cameras = read_cameras(shared_data(*CAMERA_FOLDER, "cam_param_bbb_butterfly2_arc+Znear-far.txt"))
+    cameras = read_cameras(
+        shared_data(*CAMERA_FOLDER, "cam_param_bbb_butterfly2_arc+Znear-far.txt")
+    )
     assert list(cameras) == [f"param_ptm{index:02d}" for index in range(5, 85)]
     first = cameras["param_ptm05"]
     assert first.R[0, 0] == 0.939692620786 and first.R[0, 2] == -0.342020143326
@@ -120,18 +123,30 @@ def _write(tmp_path, text, name="cam.txt"):
 
 
 def _block(name, tx=0.0, separator="\n"):
-    rows = ["1000.0 0.0 320.0", "0.0 1000.0 240.0", "0.0 0.0 1.0", "0.0", "0.0",
-            f"1.0 0.0 0.0 {tx}", "0.0 1.0 0.0 0.0", "0.0 0.0 1.0 0.0"]
+    rows = [
+        "1000.0 0.0 320.0",
+        "0.0 1000.0 240.0",
+        "0.0 0.0 1.0",
+        "0.0",
+        "0.0",
+        f"1.0 0.0 0.0 {tx}",
+        "0.0 1.0 0.0 0.0",
+        "0.0 0.0 1.0 0.0",
+    ]
     return name + separator + separator.join(rows) + separator
 
 
 def test_layout_variants_of_the_field(tmp_path, caplog):
-    text = ("#ViewNum ZNear ZFar\r\n1 0.5 -2.0\r\n2 0.6 -2.1\r\n\r\n"
-            + _block("camA \t", 1.5, separator=" \t\r\n")
-            + "Some header words\r\n"
-            # Line breaks inside a block do not matter: all 23 numbers on the name's line.
-            + "camB " + _block("", -2.0, separator=" ").strip() + "   \r\n"
-            + "# a comment with numbers 1 2 3\r\n")
+    text = (
+        "#ViewNum ZNear ZFar\r\n1 0.5 -2.0\r\n2 0.6 -2.1\r\n\r\n"
+        + _block("camA \t", 1.5, separator=" \t\r\n")
+        + "Some header words\r\n"
+        # Line breaks inside a block do not matter: all 23 numbers on the name's line.
+        + "camB "
+        + _block("", -2.0, separator=" ").strip()
+        + "   \r\n"
+        + "# a comment with numbers 1 2 3\r\n"
+    )
     with caplog.at_level(logging.WARNING, logger="mvtools"):
         cameras = read_cameras(_write(tmp_path, text))
     assert caplog.records == []
@@ -176,7 +191,9 @@ def test_missing_file_is_a_usage_error(tmp_path):
 
 
 def test_duplicate_name_is_warned_and_the_last_kept(tmp_path, caplog):
-    path = _write(tmp_path, _block("camA", 1.0) + "\n" + _block("camB") + "\n" + _block("camA", 2.0))
+    path = _write(
+        tmp_path, _block("camA", 1.0) + "\n" + _block("camB") + "\n" + _block("camA", 2.0)
+    )
     with caplog.at_level(logging.WARNING, logger="mvtools"):
         cameras = read_cameras(path)
     assert cameras["camA"].t[0] == 2.0
@@ -187,7 +204,9 @@ def test_duplicate_name_is_warned_and_the_last_kept(tmp_path, caplog):
 
 
 def test_non_orthonormal_rotation_is_warned(tmp_path, caplog):
-    path = _write(tmp_path, _block("camA") + _block("camB").replace("0.0 1.0 0.0 0.0", "0.0 1.1 0.0 0.0"))
+    path = _write(
+        tmp_path, _block("camA") + _block("camB").replace("0.0 1.0 0.0 0.0", "0.0 1.1 0.0 0.0")
+    )
     with caplog.at_level(logging.WARNING, logger="mvtools"):
         cameras = read_cameras(path)
     assert cameras["camB"].R[1, 1] == 1.1
@@ -209,8 +228,11 @@ def test_unknown_camera_name_suggests_the_closest(tmp_path):
 def test_write_refuses_what_cannot_be_read_back(tmp_path):
     good = Camera("camA", np.diag([1000.0, 1000.0, 1.0]))
     out = tmp_path / "out.txt"
-    for bad in (Camera("two words", good.K), Camera("12.5", good.K),
-                Camera("camB", good.K, distortion=[0.1, 0.0, 0.01, 0.0])):
+    for bad in (
+        Camera("two words", good.K),
+        Camera("12.5", good.K),
+        Camera("camB", good.K, distortion=[0.1, 0.0, 0.01, 0.0]),
+    ):
         with pytest.raises(UsageError):
             write_cameras(out, [good, bad])
     with pytest.raises(UsageError, match="given twice"):
@@ -220,15 +242,18 @@ def test_write_refuses_what_cannot_be_read_back(tmp_path):
 
 
 def test_written_layout(tmp_path):
-    camera = Camera("camA", [[1000.5, 0, 320], [0, 1001, 240], [0, 0, 1]], t=[5, 0, 0],
-                    distortion=[0.25])
+    camera = Camera(
+        "camA", [[1000.5, 0, 320], [0, 1001, 240], [0, 0, 1]], t=[5, 0, 0], distortion=[0.25]
+    )
     write_cameras(tmp_path / "c.txt", [camera])
     assert (tmp_path / "c.txt").read_text() == (
         "camA\n1000.5 0.0 320.0\n0.0 1001.0 240.0\n0.0 0.0 1.0\n0.25\n0.0\n"
-        "1.0 0.0 0.0 5.0\n0.0 1.0 0.0 0.0\n0.0 0.0 1.0 0.0\n\n")
+        "1.0 0.0 0.0 5.0\n0.0 1.0 0.0 0.0\n0.0 0.0 1.0 0.0\n\n"
+    )
 
 
 # ---------------------------------------------------------------- 3D-HTM 1D files
+
 
 def test_htm_kendo_cameras_match_the_vsrs_file():
     htm = read_htm_cameras(shared_data("mpeg", "kendo", "config", "HTM", "cam_kendo.cfg"))
@@ -244,9 +269,12 @@ def test_htm_kendo_cameras_match_the_vsrs_file():
 
 
 def test_htm_rows_are_chosen_by_frame(tmp_path):
-    path = _write(tmp_path, "#ViewNum StartFrame EndFrame FocalLength Position CShift ZNear ZFar\n"
-                            "0 0 9 1000 1.0 320 10 100\n0 10 19 1000 2.0 320 10 100\n"
-                            "1 0 19 1000 3.0 330\n")
+    path = _write(
+        tmp_path,
+        "#ViewNum StartFrame EndFrame FocalLength Position CShift ZNear ZFar\n"
+        "0 0 9 1000 1.0 320 10 100\n0 10 19 1000 2.0 320 10 100\n"
+        "1 0 19 1000 3.0 330\n",
+    )
     early, late = read_htm_cameras(path), read_htm_cameras(path, frame=12)
     assert early["0"].t[0] == 1.0 and late["0"].t[0] == 2.0
     assert early["1"].depth_range is None and early["1"].cx == 330.0
@@ -263,11 +291,20 @@ def test_htm_bad_row_names_its_line(tmp_path):
 
 # ---------------------------------------------------------------- MPEG-I JSON
 
-JSON_CAMERA = {"Name": "v3", "Position": [0.5, -0.25, 1.5], "Rotation": [30.0, -20.0, 10.0],
-               "Depth_range": [0.5, 25.0], "Resolution": [1920, 1080],
-               "Projection": "Perspective", "Focal": [1546.7, 1544.1],
-               "Principle_point": [980.5, 550.25], "BitDepthColor": 10, "BitDepthDepth": 16,
-               "ColorSpace": "YUV420", "DepthColorSpace": "YUV420"}
+JSON_CAMERA = {
+    "Name": "v3",
+    "Position": [0.5, -0.25, 1.5],
+    "Rotation": [30.0, -20.0, 10.0],
+    "Depth_range": [0.5, 25.0],
+    "Resolution": [1920, 1080],
+    "Projection": "Perspective",
+    "Focal": [1546.7, 1544.1],
+    "Principle_point": [980.5, 550.25],
+    "BitDepthColor": 10,
+    "BitDepthDepth": 16,
+    "ColorSpace": "YUV420",
+    "DepthColorSpace": "YUV420",
+}
 
 
 def _euler(yaw, pitch, roll):
@@ -300,8 +337,9 @@ def test_json_camera_backprojects_as_the_mpeg_i_formula(tmp_path):
     expected = _json_backproject(JSON_CAMERA, u, v, d)
     # JSON pixel centres are at integer + 0.5, ours at integers: JSON (u, v) is our
     # (u - 0.5, v - 0.5).
-    np.testing.assert_allclose(backproject(camera, u - 0.5, v - 0.5, d), expected, rtol=0,
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        backproject(camera, u - 0.5, v - 0.5, d), expected, rtol=0, atol=1e-12
+    )
     uv, z = project(camera, expected)
     np.testing.assert_allclose(uv, np.stack([u - 0.5, v - 0.5], axis=-1), rtol=0, atol=1e-9)
     np.testing.assert_allclose(z, d, rtol=1e-13)
@@ -319,17 +357,26 @@ def test_json_round_trip(tmp_path):
     second = dict(JSON_CAMERA, Name="v4", Rotation=[-170.0, 89.0, -45.0])
     cameras = read_json_cameras(_write_json(tmp_path, [JSON_CAMERA, second]))
     out = tmp_path / "again.json"
-    write_json_cameras(out, cameras,
-                       video=VideoDescription(bit_depth_color=10, bit_depth_depth=16))
+    write_json_cameras(out, cameras, video=VideoDescription(bit_depth_color=10, bit_depth_depth=16))
     written = json.loads(out.read_text())["cameras"]
     for original, entry in zip([JSON_CAMERA, second], written):
         np.testing.assert_allclose(entry.pop("Rotation"), original["Rotation"], atol=1e-12)
-        assert entry == {**{key: value for key, value in original.items() if key != "Rotation"},
-                         "Depthmap": 1, "Background": 0, "HasInvalidDepth": False}
+        assert entry == {
+            **{key: value for key, value in original.items() if key != "Rotation"},
+            "Depthmap": 1,
+            "Background": 0,
+            "HasInvalidDepth": False,
+        }
 
 
-@pytest.mark.parametrize("name", ["cam_param_news.txt", "cam_param_lovebird1_original.txt",
-                                  "cam_param_bbb_butterfly2_arc+Znear-far.txt"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "cam_param_news.txt",
+        "cam_param_lovebird1_original.txt",
+        "cam_param_bbb_butterfly2_arc+Znear-far.txt",
+    ],
+)
 def test_text_to_json_to_text_keeps_projections(name, tmp_path):
     cameras = read_cameras(shared_data(*CAMERA_FOLDER, name))
     write_json_cameras(tmp_path / "c.json", cameras, size=(1024, 768))

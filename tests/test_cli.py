@@ -27,18 +27,29 @@ def leftovers(folder: Path) -> list[str]:
 
 
 def test_every_program_states_its_purpose():
-    for name in ("calibrate", "rectify", "colorcorrect", "estimate-depth", "synthesize", "pack",
-                 "evaluate", "convert", "inspect"):
+    for name in (
+        "calibrate",
+        "rectify",
+        "colorcorrect",
+        "estimate-depth",
+        "synthesize",
+        "pack",
+        "evaluate",
+        "convert",
+        "inspect",
+    ):
         code, out, _ = run(name, "--help")
         assert code == 0 and len(out.splitlines()) > 3, name
 
 
 # --------------------------------------------------------------------- evaluate
 
+
 def _grey_video(path: Path, values: list[int], shape=(8, 6)) -> YuvFormat:
     fmt = YuvFormat(shape[1], shape[0])
-    write_video(path, fmt, [tuple(np.full(s, v, np.uint8) for s in fmt.plane_shapes)
-                            for v in values])
+    write_video(
+        path, fmt, [tuple(np.full(s, v, np.uint8) for s in fmt.plane_shapes) for v in values]
+    )
     return fmt
 
 
@@ -53,7 +64,7 @@ def test_evaluate_psnr_per_frame_and_mean(tmp_path):
     code, out, err = run("evaluate", ref, test, "--metric", "psnr", "--json")
     assert code == 0, err
     result = json.loads(out)
-    expected = 10 * np.log10(255 ** 2 / 25)
+    expected = 10 * np.log10(255**2 / 25)
     assert result["frames"][0]["Y-PSNR"] == "inf"
     assert result["frames"][1]["Y-PSNR"] == pytest.approx(expected)
     assert result["frames"][1]["U-PSNR"] == "inf"
@@ -68,7 +79,7 @@ def test_evaluate_disparity_against_middlebury_ground_truth(tmp_path):
     code, out, err = run("evaluate", "--disparity", teddy / "disp2.png", shifted, "--json")
     assert code == 0, err
     result = json.loads(out)
-    assert result["gt_scale"] == 4          # found from the set table
+    assert result["gt_scale"] == 4  # found from the set table
     assert result["bad_all"] == {"1": 100.0, "2": 0.0}
     assert result["bad_nonocc"] == {"1": 100.0, "2": 0.0}
     assert result["nonocc_pixels"] < result["known_pixels"]
@@ -81,6 +92,7 @@ def _depth_case(tmp_path: Path):
     from mvtools.geometry.camera import Camera
     from mvtools.geometry.depth import z_to_depth
     from mvtools.io.cameras import write_cameras
+
     K = np.array([[100.0, 0, 4], [0, 100.0, 2], [0, 0, 1]])
     cameras = tmp_path / "cameras.txt"
     write_cameras(cameras, [Camera("a", K), Camera("b", K, t=np.array([0.2, 0, 0]))])
@@ -97,10 +109,25 @@ def test_evaluate_depth_videos_as_disparities_towards_the_neighbour(tmp_path):
     cameras, videos = _depth_case(tmp_path)
     # the test's range from its sidecar, as estimate-depth writes it
     (tmp_path / (videos["test"].name + ".json")).write_text(
-        json.dumps({"NearestDepthValue": 1.0, "FarthestDepthValue": 100.0, "DepthType": 0}))
-    code, out, err = run("evaluate", "--depth", videos["truth"], videos["test"],
-                         "--reference-range", 1, 100, "--cameras", cameras, "--camera", "a",
-                         "--neighbour", "b", "--json-file", tmp_path / "errors.json")
+        json.dumps({"NearestDepthValue": 1.0, "FarthestDepthValue": 100.0, "DepthType": 0})
+    )
+    code, out, err = run(
+        "evaluate",
+        "--depth",
+        videos["truth"],
+        videos["test"],
+        "--reference-range",
+        1,
+        100,
+        "--cameras",
+        cameras,
+        "--camera",
+        "a",
+        "--neighbour",
+        "b",
+        "--json-file",
+        tmp_path / "errors.json",
+    )
     assert code == 0, err
     assert "  mean    50.000     0.000     0.750" in out
     result = json.loads((tmp_path / "errors.json").read_text())
@@ -115,27 +142,41 @@ def test_evaluate_depth_videos_as_disparities_towards_the_neighbour(tmp_path):
     assert histogram["percent"][3] == 50.0
 
 
-@pytest.mark.parametrize("change, fragments", [
-    (("--test-range", None), ("--test-range", "test_8x4_gray16le.yuv.json")),
-    (("--neighbour", "c"), ("--neighbour", "no camera 'c'", "cameras.txt")),
-    (("--camera", None), ("--depth needs --camera",)),
-])
+@pytest.mark.parametrize(
+    "change, fragments",
+    [
+        (("--test-range", None), ("--test-range", "test_8x4_gray16le.yuv.json")),
+        (("--neighbour", "c"), ("--neighbour", "no camera 'c'", "cameras.txt")),
+        (("--camera", None), ("--depth needs --camera",)),
+    ],
+)
 def test_evaluate_depth_bad_input(tmp_path, change, fragments):
     cameras, videos = _depth_case(tmp_path)
-    options = {"--reference-range": (1, 100), "--test-range": (1, 100), "--cameras": (cameras,),
-               "--camera": ("a",), "--neighbour": ("b",)}
+    options = {
+        "--reference-range": (1, 100),
+        "--test-range": (1, 100),
+        "--cameras": (cameras,),
+        "--camera": ("a",),
+        "--neighbour": ("b",),
+    }
     option, value = change
     if value is None:
         del options[option]
     else:
         options[option] = (value,)
-    code, out, err = run("evaluate", "--depth", videos["truth"], videos["test"],
-                         *(item for key, values in options.items() for item in (key, *values)))
+    code, out, err = run(
+        "evaluate",
+        "--depth",
+        videos["truth"],
+        videos["test"],
+        *(item for key, values in options.items() for item in (key, *values)),
+    )
     assert code == 2 and out == ""
     assert_one_line_error(err, *fragments)
 
 
 # --------------------------------------------------------------------- convert
+
 
 def test_convert_images_to_yuv444_and_back_is_lossless_for_grey(tmp_path):
     rng = np.random.default_rng(1)
@@ -145,8 +186,9 @@ def test_convert_images_to_yuv444_and_back_is_lossless_for_grey(tmp_path):
         write_image(tmp_path / f"in{index}.png", grey)
         images.append(grey)
     video = tmp_path / "v.y4m"
-    code, _, err = run("convert", tmp_path / "in0.png", tmp_path / "in1.png", "-o", video,
-                       "--out-pix-fmt", "gray")
+    code, _, err = run(
+        "convert", tmp_path / "in0.png", tmp_path / "in1.png", "-o", video, "--out-pix-fmt", "gray"
+    )
     assert code == 0, err
     for index, grey in enumerate(images):
         assert np.array_equal(read_frame(video, index=index)[0], grey)
@@ -155,22 +197,59 @@ def test_convert_images_to_yuv444_and_back_is_lossless_for_grey(tmp_path):
 def test_convert_depth_8_to_16_bit_keeps_meaning_and_z_is_exact(tmp_path):
     fmt = YuvFormat(4, 2)
     luma = np.array([[0, 255, 128, 1], [254, 2, 64, 200]], np.uint8)
-    write_video(tmp_path / "d8.yuv", fmt, [(luma, np.full((1, 2), 128, np.uint8),
-                                            np.full((1, 2), 128, np.uint8))])
-    code, _, err = run("convert", tmp_path / "d8.yuv", "--size", "4x2", "--depth",
-                       "--out-pix-fmt", "gray16le", "-o", tmp_path / "d16.yuv")
+    write_video(
+        tmp_path / "d8.yuv",
+        fmt,
+        [(luma, np.full((1, 2), 128, np.uint8), np.full((1, 2), 128, np.uint8))],
+    )
+    code, _, err = run(
+        "convert",
+        tmp_path / "d8.yuv",
+        "--size",
+        "4x2",
+        "--depth",
+        "--out-pix-fmt",
+        "gray16le",
+        "-o",
+        tmp_path / "d16.yuv",
+    )
     assert code == 0, err
     d16 = read_frame(tmp_path / "d16.yuv", YuvFormat(4, 2, "400", 16))[0]
-    assert np.array_equal(d16, luma.astype(np.uint16) * 257)   # 65535 / 255 = 257 exactly
-    code, _, err = run("convert", tmp_path / "d16.yuv", "--size", "4x2", "--pix-fmt", "gray16le",
-                       "--depth", "--to", "z", "--znear", 2, "--zfar", 10, "-o", tmp_path / "z.pfm")
+    assert np.array_equal(d16, luma.astype(np.uint16) * 257)  # 65535 / 255 = 257 exactly
+    code, _, err = run(
+        "convert",
+        tmp_path / "d16.yuv",
+        "--size",
+        "4x2",
+        "--pix-fmt",
+        "gray16le",
+        "--depth",
+        "--to",
+        "z",
+        "--znear",
+        2,
+        "--zfar",
+        10,
+        "-o",
+        tmp_path / "z.pfm",
+    )
     assert code == 0, err
     z = read_image(tmp_path / "z.pfm")
     # 1/z = v/vmax (1/znear - 1/zfar) + 1/zfar, by hand for v = 0, vmax, 128*257.
     assert z[0, 0] == pytest.approx(10) and z[0, 1] == pytest.approx(2)
     assert z[0, 2] == pytest.approx(1 / (128 / 255 * (0.5 - 0.1) + 0.1), rel=1e-6)
-    code, _, err = run("convert", tmp_path / "z.pfm", "--from", "z", "--znear", 2, "--zfar", 10,
-                       "-o", tmp_path / "back_4x2_yuv420p.yuv")
+    code, _, err = run(
+        "convert",
+        tmp_path / "z.pfm",
+        "--from",
+        "z",
+        "--znear",
+        2,
+        "--zfar",
+        10,
+        "-o",
+        tmp_path / "back_4x2_yuv420p.yuv",
+    )
     assert code == 0, err
     assert np.array_equal(read_frame(tmp_path / "back_4x2_yuv420p.yuv")[0], luma)
 
@@ -182,25 +261,50 @@ def test_convert_negative_depth_range_gives_signed_z_and_positive_disparity(tmp_
     chroma = np.full((1, 1), 128, np.uint8)
     write_video(tmp_path / "d.yuv", fmt, [(luma, chroma, chroma)])
     common = ("--size", "2x2", "--depth", "--znear", -2, "--zfar", -10)
-    code, _, err = run("convert", tmp_path / "d.yuv", *common, "--to", "z", "-o", tmp_path / "z.pfm")
+    code, _, err = run(
+        "convert", tmp_path / "d.yuv", *common, "--to", "z", "-o", tmp_path / "z.pfm"
+    )
     assert code == 0, err
     z = read_image(tmp_path / "z.pfm")
     expected = 1 / (luma / 255 * (-0.5 + 0.1) - 0.1)
     np.testing.assert_allclose(z, expected, rtol=1e-6)
     assert z[0, 0] == pytest.approx(-10) and z[0, 1] == pytest.approx(-2)
-    code, _, err = run("convert", tmp_path / "d.yuv", *common, "--to", "disparity", "--focal",
-                       100, "--baseline", 0.5, "-o", tmp_path / "disparity.pfm")
+    code, _, err = run(
+        "convert",
+        tmp_path / "d.yuv",
+        *common,
+        "--to",
+        "disparity",
+        "--focal",
+        100,
+        "--baseline",
+        0.5,
+        "-o",
+        tmp_path / "disparity.pfm",
+    )
     assert code == 0, err
     np.testing.assert_allclose(read_image(tmp_path / "disparity.pfm"), -50 / expected, rtol=1e-6)
     for quantity, source in (("z", "z.pfm"), ("disparity", "disparity.pfm")):
         extra = ("--focal", 100, "--baseline", 0.5) if quantity == "disparity" else ()
-        code, _, err = run("convert", tmp_path / source, "--from", quantity, "--znear", -2,
-                           "--zfar", -10, *extra, "-o", tmp_path / f"back_{quantity}_2x2_yuv420p.yuv")
+        code, _, err = run(
+            "convert",
+            tmp_path / source,
+            "--from",
+            quantity,
+            "--znear",
+            -2,
+            "--zfar",
+            -10,
+            *extra,
+            "-o",
+            tmp_path / f"back_{quantity}_2x2_yuv420p.yuv",
+        )
         assert code == 0, err
         assert np.array_equal(read_frame(tmp_path / f"back_{quantity}_2x2_yuv420p.yuv")[0], luma)
 
 
 # --------------------------------------------------------------------- bad input
+
 
 def test_truncated_yuv_names_file_and_format_and_writes_nothing(tmp_path):
     source = tmp_path / "in_16x8_yuv420p.yuv"
@@ -214,8 +318,9 @@ def test_truncated_yuv_names_file_and_format_and_writes_nothing(tmp_path):
 
 
 def test_missing_input_file(tmp_path):
-    code, _, err = run("evaluate", tmp_path / "nothing_8x8_yuv420p.yuv",
-                       tmp_path / "nothing_8x8_yuv420p.yuv")
+    code, _, err = run(
+        "evaluate", tmp_path / "nothing_8x8_yuv420p.yuv", tmp_path / "nothing_8x8_yuv420p.yuv"
+    )
     assert code == 2
     assert_one_line_error(err, "nothing_8x8_yuv420p.yuv", "no such file")
 
@@ -243,7 +348,8 @@ def _kendo_config(tmp_path, text: str = "") -> Path:
         f"RightViewImageName {kendo / 'kendo_ori_I_3.yuv'}\n"
         f"LeftDepthMapName {kendo / 'kendo_ori_D_1.yuv'}\n"
         f"RightDepthMapName {kendo / 'kendo_ori_D_3.yuv'}\n"
-        "OutputVirtualViewImageName out.yuv\n" + text)
+        "OutputVirtualViewImageName out.yuv\n" + text
+    )
     return config
 
 
@@ -257,8 +363,9 @@ def test_unknown_camera_name(tmp_path):
     config = _kendo_config(tmp_path, "VirtualCameraName param_kendo2\n")
     code, _, err = run("inspect", config)
     assert code == 2
-    assert_one_line_error(err, f"{config}:17", "VirtualCameraName", "param_kendo2",
-                          "did you mean 'param_kendo02'")
+    assert_one_line_error(
+        err, f"{config}:17", "VirtualCameraName", "param_kendo2", "did you mean 'param_kendo02'"
+    )
 
 
 def test_znear_not_below_zfar(tmp_path):
@@ -267,8 +374,18 @@ def test_znear_not_below_zfar(tmp_path):
     assert code == 2
     assert_one_line_error(err, "LeftNearestDepthValue")
     for znear, zfar, message in ((10, 5, "farther than"), (-2, 10, "opposite signs")):
-        code, _, err = run("convert", "x.pfm", "--from", "z", "--znear", znear, "--zfar", zfar,
-                           "-o", tmp_path / "d.yuv")
+        code, _, err = run(
+            "convert",
+            "x.pfm",
+            "--from",
+            "z",
+            "--znear",
+            znear,
+            "--zfar",
+            zfar,
+            "-o",
+            tmp_path / "d.yuv",
+        )
         assert code == 2
         assert_one_line_error(err, "--znear", message)
 
@@ -289,9 +406,20 @@ def test_missing_file_named_by_configuration(tmp_path):
 
 def test_convert_cameras_text_to_json_and_back_keeps_projections(tmp_path):
     from mvtools.io.cameras import read_cameras
+
     source = shared_data("mpeg", "vsrs_camera_parameters", "cam_param_lovebird1_original.txt")
-    code, _, err = run("convert", source, "-o", tmp_path / "c.json", "--size", "1024x768",
-                       "--znear", 2000, "--zfar", 9000)
+    code, _, err = run(
+        "convert",
+        source,
+        "-o",
+        tmp_path / "c.json",
+        "--size",
+        "1024x768",
+        "--znear",
+        2000,
+        "--zfar",
+        9000,
+    )
     assert code == 0, err
     code, _, err = run("convert", tmp_path / "c.json", "-o", tmp_path / "c.txt")
     assert code == 0, err
@@ -305,9 +433,12 @@ def test_convert_cameras_text_to_json_and_back_keeps_projections(tmp_path):
 def test_time_log_records_each_finished_program(tmp_path):
     log = tmp_path / "times.tsv"
     for size in ("1920x1080", "640x480"):
-        completed = subprocess.run([sys.executable, "-m", "mvtools", "bitrate", "--size", size,
-                                    "--fps", "25"], capture_output=True, text=True,
-                                   env={**os.environ, "MVTOOLS_TIME_LOG": str(log)})
+        completed = subprocess.run(
+            [sys.executable, "-m", "mvtools", "bitrate", "--size", size, "--fps", "25"],
+            capture_output=True,
+            text=True,
+            env={**os.environ, "MVTOOLS_TIME_LOG": str(log)},
+        )
         assert completed.returncode == 0, completed.stderr
     lines = [line.split("\t") for line in log.read_text().splitlines()]
     assert [line[1:] for line in lines] == [["mvtools bitrate", "25"]] * 2
@@ -325,16 +456,19 @@ def test_every_program_states_the_installed_version(name):
 def test_verbose_shows_the_parameters_their_sources_and_the_inputs(tmp_path):
     line = Path(__file__).resolve().parent.parent / "sample_data" / "line"
     config = line / "synthesize_cam2.cfg"
-    precision_line = next(number for number, text in
-                          enumerate(config.read_text().splitlines(), start=1)
-                          if text.startswith("Precision"))
+    precision_line = next(
+        number
+        for number, text in enumerate(config.read_text().splitlines(), start=1)
+        if text.startswith("Precision")
+    )
     output = tmp_path / "out_256x192_yuv420p.yuv"
     code, _, err = run("synthesize", config, "--frames", "1", "-v", "-o", output)
     assert code == 0, err
     debug = [text for text in err.splitlines() if ": debug: " in text]
     assert f"{config}:{precision_line}: Precision = 2" in "\n".join(debug)
-    assert any(text.endswith("v1_texture_256x192_yuv420p.yuv: 256x192 yuv420p, 3 frames")
-               for text in debug), debug
+    assert any(
+        text.endswith("v1_texture_256x192_yuv420p.yuv: 256x192 yuv420p, 3 frames") for text in debug
+    ), debug
     assert any(text.endswith(f"{output}: written (73728 bytes)") for text in debug), debug
     code, _, err = run("synthesize", config, "--frames", "1", "-o", output)
     assert code == 0 and ": debug: " not in err

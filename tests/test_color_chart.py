@@ -12,11 +12,26 @@ import pytest
 from chart_scene import CORNERS, MISMATCH, photograph
 from shared_data import REPO_ROOT, shared_data
 
-from mvtools.color.chart import (GREY_PATCHES, SRGB_TO_XYZ, WHITE_D50, WHITE_D65, XYZ_TO_SRGB,
-                                 bradford_matrix, delta_e_2000, detect_chart,
-                                 fit_chart_correction, gamma_to_linear, lab_to_linear_rgb,
-                                 lab_to_xyz, linear_rgb_to_lab, linear_to_gamma, linear_to_srgb,
-                                 sample_patches, srgb_to_linear, xyz_to_lab)
+from mvtools.color.chart import (
+    GREY_PATCHES,
+    SRGB_TO_XYZ,
+    WHITE_D50,
+    WHITE_D65,
+    XYZ_TO_SRGB,
+    bradford_matrix,
+    delta_e_2000,
+    detect_chart,
+    fit_chart_correction,
+    gamma_to_linear,
+    lab_to_linear_rgb,
+    lab_to_xyz,
+    linear_rgb_to_lab,
+    linear_to_gamma,
+    linear_to_srgb,
+    sample_patches,
+    srgb_to_linear,
+    xyz_to_lab,
+)
 from mvtools.errors import ConfigError, DataError
 from mvtools.io.color_charts import ColorChart, read_colorchecker, read_colorchecker_srgb
 
@@ -64,15 +79,27 @@ SHARMA_PAIRS = [
 ]
 
 # Lindbloom's sRGB (D65 = ASTM E308) and Bradford matrices for his D65 and D50 whites.
-LINDBLOOM_SRGB_TO_XYZ = [[0.4124564, 0.3575761, 0.1804375], [0.2126729, 0.7151522, 0.0721750],
-                         [0.0193339, 0.1191920, 0.9503041]]
-LINDBLOOM_XYZ_TO_SRGB = [[3.2404542, -1.5371385, -0.4985314], [-0.9692660, 1.8760108, 0.0415560],
-                         [0.0556434, -0.2040259, 1.0572252]]
+LINDBLOOM_SRGB_TO_XYZ = [
+    [0.4124564, 0.3575761, 0.1804375],
+    [0.2126729, 0.7151522, 0.0721750],
+    [0.0193339, 0.1191920, 0.9503041],
+]
+LINDBLOOM_XYZ_TO_SRGB = [
+    [3.2404542, -1.5371385, -0.4985314],
+    [-0.9692660, 1.8760108, 0.0415560],
+    [0.0556434, -0.2040259, 1.0572252],
+]
 LINDBLOOM_D65, LINDBLOOM_D50 = [0.95047, 1.0, 1.08883], [0.96422, 1.0, 0.82521]
-LINDBLOOM_D65_TO_D50 = [[1.0478112, 0.0228866, -0.0501270], [0.0295424, 0.9904844, -0.0170491],
-                        [-0.0092345, 0.0150436, 0.7521316]]
-LINDBLOOM_D50_TO_D65 = [[0.9555766, -0.0230393, 0.0631636], [-0.0282895, 1.0099416, 0.0210077],
-                        [0.0122982, -0.0204830, 1.3299098]]
+LINDBLOOM_D65_TO_D50 = [
+    [1.0478112, 0.0228866, -0.0501270],
+    [0.0295424, 0.9904844, -0.0170491],
+    [-0.0092345, 0.0150436, 0.7521316],
+]
+LINDBLOOM_D50_TO_D65 = [
+    [0.9555766, -0.0230393, 0.0631636],
+    [-0.0282895, 1.0099416, 0.0210077],
+    [0.0122982, -0.0204830, 1.3299098],
+]
 
 
 @pytest.fixture(scope="module")
@@ -107,27 +134,34 @@ def test_ciede2000_published_pairs():
 def test_srgb_transfer_function():
     # IEC 61966-2-1: the segments meet at 0.04045 -> 0.04045 / 12.92 = 0.0031308;
     # ((0.5 + 0.055) / 1.055) ** 2.4 = 0.2140411; 128/255 -> 0.2158605.
-    np.testing.assert_allclose(srgb_to_linear([0.0, 0.04045, 0.5, 128 / 255, 1.0]),
-                               [0.0, 0.0031308050, 0.2140411405, 0.2158605001, 1.0], atol=1e-10)
+    np.testing.assert_allclose(
+        srgb_to_linear([0.0, 0.04045, 0.5, 128 / 255, 1.0]),
+        [0.0, 0.0031308050, 0.2140411405, 0.2158605001, 1.0],
+        atol=1e-10,
+    )
     np.testing.assert_allclose(linear_to_srgb(0.0031308), 0.04044994, atol=1e-8)
     codes = np.arange(256) / 255.0
     np.testing.assert_allclose(linear_to_srgb(srgb_to_linear(codes)), codes, atol=1e-12)
     np.testing.assert_allclose(srgb_to_linear(-codes), -srgb_to_linear(codes))
     # The plain gamma: 0.5 ** 2.2 = 0.2176376.
     np.testing.assert_allclose(gamma_to_linear(0.5), 0.2176376408, atol=1e-10)
-    np.testing.assert_allclose(linear_to_gamma(gamma_to_linear(codes, gamma=1.8), gamma=1.8),
-                               codes, atol=1e-12)
+    np.testing.assert_allclose(
+        linear_to_gamma(gamma_to_linear(codes, gamma=1.8), gamma=1.8), codes, atol=1e-12
+    )
 
 
 def test_srgb_and_bradford_matrices_are_the_published_ones():
     np.testing.assert_allclose(SRGB_TO_XYZ, LINDBLOOM_SRGB_TO_XYZ, atol=5e-8)
     np.testing.assert_allclose(XYZ_TO_SRGB, LINDBLOOM_XYZ_TO_SRGB, atol=5e-8)
-    np.testing.assert_allclose(bradford_matrix(LINDBLOOM_D65, LINDBLOOM_D50),
-                               LINDBLOOM_D65_TO_D50, atol=5e-8)
-    np.testing.assert_allclose(bradford_matrix(LINDBLOOM_D50, LINDBLOOM_D65),
-                               LINDBLOOM_D50_TO_D65, atol=5e-8)
-    np.testing.assert_allclose(bradford_matrix(WHITE_D65, WHITE_D50) @ WHITE_D65, WHITE_D50,
-                               atol=1e-15)
+    np.testing.assert_allclose(
+        bradford_matrix(LINDBLOOM_D65, LINDBLOOM_D50), LINDBLOOM_D65_TO_D50, atol=5e-8
+    )
+    np.testing.assert_allclose(
+        bradford_matrix(LINDBLOOM_D50, LINDBLOOM_D65), LINDBLOOM_D50_TO_D65, atol=5e-8
+    )
+    np.testing.assert_allclose(
+        bradford_matrix(WHITE_D65, WHITE_D50) @ WHITE_D65, WHITE_D50, atol=1e-15
+    )
     np.testing.assert_allclose(SRGB_TO_XYZ @ np.ones(3), WHITE_D65, atol=1e-15)
 
 
@@ -135,24 +169,36 @@ def test_lab_of_the_published_charts(chart):
     # colour-science's CIELAB of each ColorChecker 24 under its own illuminant
     # (D50 and, for the 1976 chart, C).
     path = shared_data("color", "colour_science", CHARTS_JSON)
-    for name in ("ColorChecker 1976", "ColorChecker 2005", "BabelColor Average",
-                 "ColorChecker24 - Before November 2014", "ColorChecker24 - After November 2014"):
+    for name in (
+        "ColorChecker 1976",
+        "ColorChecker 2005",
+        "BabelColor Average",
+        "ColorChecker24 - Before November 2014",
+        "ColorChecker24 - After November 2014",
+    ):
         published = read_colorchecker(path, chart=name)
         lab = xyz_to_lab(published.xyz, white=published.white_xyz)
         np.testing.assert_allclose(lab, published.lab, atol=1e-9, err_msg=name)
-        np.testing.assert_allclose(lab_to_xyz(lab, white=published.white_xyz), published.xyz,
-                                   atol=1e-12, err_msg=name)
+        np.testing.assert_allclose(
+            lab_to_xyz(lab, white=published.white_xyz), published.xyz, atol=1e-12, err_msg=name
+        )
 
 
 def test_srgb_lab_round_trips(chart, chart_srgb):
     rng = np.random.default_rng(0)
     linear = rng.uniform(0, 1, (500, 3))
     for white in (WHITE_D50, WHITE_D65, chart.white_xyz):
-        np.testing.assert_allclose(lab_to_linear_rgb(linear_rgb_to_lab(linear, white=white),
-                                                     white=white), linear, atol=1e-12)
+        np.testing.assert_allclose(
+            lab_to_linear_rgb(linear_rgb_to_lab(linear, white=white), white=white),
+            linear,
+            atol=1e-12,
+        )
     # White is L* 100 neutral in any white it is adapted to; black is 0.
-    np.testing.assert_allclose(linear_rgb_to_lab([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0]]),
-                               [[100.0, 0.0, 0.0], [0.0, 0.0, 0.0]], atol=1e-12)
+    np.testing.assert_allclose(
+        linear_rgb_to_lab([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0]]),
+        [[100.0, 0.0, 0.0], [0.0, 0.0, 0.0]],
+        atol=1e-12,
+    )
     # colour-science's 8-bit sRGB of the chart (Bradford D50 -> D65) from its CIELAB, to
     # 0.15 codes (0.04 but for yellow's low blue); cyan is outside the gamut: red clipped.
     ours = linear_to_srgb(lab_to_linear_rgb(chart.lab, white=chart.white_xyz)) * 255
@@ -180,17 +226,26 @@ def test_read_colorchecker(chart):
 
 
 def test_two_publications_of_the_2005_chart_agree(opencv):
-    published = read_colorchecker(shared_data("color", "colour_science", CHARTS_JSON),
-                                  chart="ColorChecker 2005")
-    np.testing.assert_allclose(published.lab, opencv["reference_Lab_D50_2deg_ColorChecker2005"],
-                               atol=0.05)
+    published = read_colorchecker(
+        shared_data("color", "colour_science", CHARTS_JSON), chart="ColorChecker 2005"
+    )
+    np.testing.assert_allclose(
+        published.lab, opencv["reference_Lab_D50_2deg_ColorChecker2005"], atol=0.05
+    )
 
 
 def test_malformed_chart_files(tmp_path):
     path = tmp_path / "charts.json"
-    good = {"name": "c", "illuminant_xy": [0.3457, 0.3585], "rows": 1, "columns": 2,
-            "patches": {"a": {"XYZ": [0.1, 0.1, 0.1], "Lab_under_chart_illuminant": [37, 0, 0]},
-                        "b": {"XYZ": [0.2, 0.2, 0.2], "Lab_under_chart_illuminant": [51, 0, 0]}}}
+    good = {
+        "name": "c",
+        "illuminant_xy": [0.3457, 0.3585],
+        "rows": 1,
+        "columns": 2,
+        "patches": {
+            "a": {"XYZ": [0.1, 0.1, 0.1], "Lab_under_chart_illuminant": [37, 0, 0]},
+            "b": {"XYZ": [0.2, 0.2, 0.2], "Lab_under_chart_illuminant": [51, 0, 0]},
+        },
+    }
     path.write_text(json.dumps({"c": good}))
     assert read_colorchecker(path, chart="c").layout == (2, 1)
     with pytest.raises(ConfigError, match="no chart 'x' in the file \\(charts: 'c'\\)"):
@@ -210,11 +265,13 @@ def test_malformed_chart_files(tmp_path):
         read_colorchecker(path, chart="c")
 
     csv = tmp_path / "chart.csv"
-    for text, line, message in (("name,R,G,B\n", 1, "header must be 'patch,R,G,B'"),
-                                ("patch,R,G,B\na,1,2,3\nb,1,2\n", 3, "expected 4 fields"),
-                                ("patch,R,G,B\na,1,x,3\n", 2, "must be numbers"),
-                                ("patch,R,G,B\na,1,2,300\n", 2, r"must be in \[0, 255\]"),
-                                ("patch,R,G,B\na,1,2,3\na,1,2,3\n", 3, "appears twice")):
+    for text, line, message in (
+        ("name,R,G,B\n", 1, "header must be 'patch,R,G,B'"),
+        ("patch,R,G,B\na,1,2,3\nb,1,2\n", 3, "expected 4 fields"),
+        ("patch,R,G,B\na,1,x,3\n", 2, "must be numbers"),
+        ("patch,R,G,B\na,1,2,300\n", 2, r"must be in \[0, 255\]"),
+        ("patch,R,G,B\na,1,2,3\na,1,2,3\n", 3, "appears twice"),
+    ):
         csv.write_text(text)
         with pytest.raises(ConfigError, match=message) as error:
             read_colorchecker_srgb(csv)
@@ -226,15 +283,20 @@ def test_malformed_chart_files(tmp_path):
 
 def test_chain_reproduces_opencv_linear_references(opencv):
     reference = np.array(opencv["reference_Lab_D50_2deg_ColorChecker2005"])
-    np.testing.assert_allclose(lab_to_linear_rgb(reference), opencv["expected_ref_linear_rgb"],
-                               atol=1e-8)
+    np.testing.assert_allclose(
+        lab_to_linear_rgb(reference), opencv["expected_ref_linear_rgb"], atol=1e-8
+    )
     measured = np.array(opencv["measured_rgb_0_255_gamma_encoded"]) / 255
-    np.testing.assert_allclose(gamma_to_linear(measured), opencv["expected_src_linear_rgb"],
-                               atol=1e-8)
+    np.testing.assert_allclose(
+        gamma_to_linear(measured), opencv["expected_src_linear_rgb"], atol=1e-8
+    )
     # The fitted curve is a 256-entry table: its interpolation agrees to 1e-5.
     correction = fit_chart_correction(measured, reference)
-    np.testing.assert_allclose(replace(correction, matrix=np.eye(3)).apply_linear(measured),
-                               opencv["expected_src_linear_rgb"], atol=1e-5)
+    np.testing.assert_allclose(
+        replace(correction, matrix=np.eye(3)).apply_linear(measured),
+        opencv["expected_src_linear_rgb"],
+        atol=1e-5,
+    )
 
 
 def test_fitted_ccm_beats_opencv(opencv):
@@ -257,8 +319,9 @@ def test_fitted_ccm_beats_opencv(opencv):
 def test_opencv_mcc_gold_loss(opencv):
     # OpenCV's loss is the root mean square CIEDE2000 with both sides in CIELAB (D65),
     # the linear sRGB's own white; the reference reaches it through Bradford from D50.
-    storage = cv2.FileStorage(str(shared_data("color", "opencv_ccm", "mcc_ccm_test.yml")),
-                              cv2.FILE_STORAGE_READ)
+    storage = cv2.FileStorage(
+        str(shared_data("color", "opencv_ccm", "mcc_ccm_test.yml")), cv2.FILE_STORAGE_READ
+    )
     charts, ccm = storage.getNode("chartsRGB").mat(), storage.getNode("ccm").mat()
     storage.release()
     measured = charts[:, 1].reshape(24, 3) / 255
@@ -270,6 +333,7 @@ def test_opencv_mcc_gold_loss(opencv):
 
 
 # ---------------------------------------------------------------- a synthetic photograph
+
 
 def test_synthetic_chart_detected_sampled_and_corrected(chart, chart_srgb):
     image = photograph(chart_srgb, CORNERS)
@@ -283,40 +347,50 @@ def test_synthetic_chart_detected_sampled_and_corrected(chart, chart_srgb):
         assert np.abs(sample_patches(image, where) - truth).max() < 1.0
     measured = sample_patches(image, corners) / 255
 
-    uncorrected = delta_e_2000(linear_rgb_to_lab(srgb_to_linear(measured),
-                                                 white=chart.white_xyz), chart.lab)
-    correction = fit_chart_correction(measured, chart.lab, linearization="grey-curve",
-                                      white=chart.white_xyz)
-    print(f"\nsynthetic: corners within {error:.3f} px; mean CIEDE2000 uncorrected "
-          f"{uncorrected.mean():.3f} (max {uncorrected.max():.3f}), corrected "
-          f"{correction.delta_e.mean():.3f} (max {correction.delta_e.max():.3f})", end="")
+    uncorrected = delta_e_2000(
+        linear_rgb_to_lab(srgb_to_linear(measured), white=chart.white_xyz), chart.lab
+    )
+    correction = fit_chart_correction(
+        measured, chart.lab, linearization="grey-curve", white=chart.white_xyz
+    )
+    print(
+        f"\nsynthetic: corners within {error:.3f} px; mean CIEDE2000 uncorrected "
+        f"{uncorrected.mean():.3f} (max {uncorrected.max():.3f}), corrected "
+        f"{correction.delta_e.mean():.3f} (max {correction.delta_e.max():.3f})",
+        end="",
+    )
     assert correction.delta_e.mean() < 1.5
     assert correction.delta_e.mean() < uncorrected.mean() / 5
     assert correction.used.all() and correction.curve.shape == (3, 256)
     assert np.all(np.diff(correction.curve, axis=1) >= 0)
     # The greys come out neutral at the reference lightness.
-    greys = linear_rgb_to_lab(correction.apply_linear(measured[list(GREY_PATCHES)]),
-                              white=chart.white_xyz)
+    greys = linear_rgb_to_lab(
+        correction.apply_linear(measured[list(GREY_PATCHES)]), white=chart.white_xyz
+    )
     np.testing.assert_allclose(greys[:, 0], chart.lab[list(GREY_PATCHES), 0], atol=1.0)
 
     # apply gives the display colours of apply_linear where those are in gamut.
     linear = correction.apply_linear(measured)
     in_gamut = np.all((linear >= 0) & (linear <= 1), axis=1)
-    displayed = delta_e_2000(linear_rgb_to_lab(srgb_to_linear(correction.apply(measured)),
-                                               white=chart.white_xyz), chart.lab)
+    displayed = delta_e_2000(
+        linear_rgb_to_lab(srgb_to_linear(correction.apply(measured)), white=chart.white_xyz),
+        chart.lab,
+    )
     np.testing.assert_allclose(displayed[in_gamut], correction.delta_e[in_gamut], atol=1e-9)
     assert in_gamut.sum() >= 20
     whole = correction.apply(image / 255.0)
     assert whole.shape == image.shape and whole.min() >= 0 and whole.max() <= 1
 
-    affine = fit_chart_correction(measured, chart.lab, linearization="grey-curve", model="4x3",
-                                  white=chart.white_xyz)
+    affine = fit_chart_correction(
+        measured, chart.lab, linearization="grey-curve", model="4x3", white=chart.white_xyz
+    )
     assert affine.matrix.shape == (4, 3) and affine.delta_e.mean() < 1.5
 
 
 def test_exact_srgb_chart_needs_no_correction(chart, chart_srgb):
-    correction = fit_chart_correction(chart_srgb, chart.lab, linearization="srgb",
-                                      white=chart.white_xyz)
+    correction = fit_chart_correction(
+        chart_srgb, chart.lab, linearization="srgb", white=chart.white_xyz
+    )
     np.testing.assert_allclose(correction.matrix, np.eye(3), atol=1e-3)
     # Only cyan, clipped in the published sRGB, is off.
     cyan = chart.patch_names.index("cyan")
@@ -326,23 +400,28 @@ def test_exact_srgb_chart_needs_no_correction(chart, chart_srgb):
 @pytest.mark.parametrize("turn", ["half turn", "quarter turn", "three quarter turns"])
 def test_turned_chart(chart_srgb, turn):
     # Corners of the chart upright; a portrait quadrilateral for the quarter turns.
-    corners = {"half turn": np.roll(CORNERS, 2, axis=0),
-               "quarter turn": np.array([[230.0, 25.0], [225.0, 220.0], [95.0, 215.0],
-                                         [90.0, 20.0]]),
-               "three quarter turns": np.array([[95.0, 215.0], [90.0, 20.0], [230.0, 25.0],
-                                                [225.0, 220.0]])}[turn]
+    corners = {
+        "half turn": np.roll(CORNERS, 2, axis=0),
+        "quarter turn": np.array([[230.0, 25.0], [225.0, 220.0], [95.0, 215.0], [90.0, 20.0]]),
+        "three quarter turns": np.array(
+            [[95.0, 215.0], [90.0, 20.0], [230.0, 25.0], [225.0, 220.0]]
+        ),
+    }[turn]
     found = detect_chart(photograph(chart_srgb, corners, seed=1))
     assert found is not None and np.abs(found - corners).max() < 2.0
 
 
 def test_no_chart():
     rng = np.random.default_rng(0)
-    checkerboard = cv2.imread(str(REPO_ROOT / "sample_data" / "checkerboard" / "cam0"
-                                  / "capture00.png"))
+    checkerboard = cv2.imread(
+        str(REPO_ROOT / "sample_data" / "checkerboard" / "cam0" / "capture00.png")
+    )
     assert checkerboard is not None
-    for image in (rng.integers(0, 256, (240, 320, 3), dtype=np.uint8),
-                  np.full((240, 320, 3), 0.5),
-                  cv2.cvtColor(checkerboard, cv2.COLOR_BGR2RGB)):
+    for image in (
+        rng.integers(0, 256, (240, 320, 3), dtype=np.uint8),
+        np.full((240, 320, 3), 0.5),
+        cv2.cvtColor(checkerboard, cv2.COLOR_BGR2RGB),
+    ):
         assert detect_chart(image) is None
 
 
@@ -373,7 +452,7 @@ def test_bad_arguments(chart):
         fit_chart_correction(measured, chart.lab, gamma=0)
     with pytest.raises(DataError, match="saturation"):
         fit_chart_correction(np.ones((24, 3)), chart.lab)
-    with pytest.raises(DataError, match="grey patches all measure 0.5"):
+    with pytest.raises(DataError, match=r"grey patches all measure 0\.5"):
         fit_chart_correction(measured, chart.lab, linearization="grey-curve")
     with pytest.raises(ValueError, match="shape"):
         delta_e_2000([50, 0], [50, 0])

@@ -19,11 +19,11 @@ def test_warped_psnr_of_a_view_two_levels_brighter():
     view, target = texture[:, :64], texture[:, 1:65] - 2
     z = np.full((48, 64), 10.0)
     # PSNR = 20 log10(255 / 2) over the pixels both see
-    assert warped_psnr(view, view_camera, z, target, target_camera, z,
-                       max_value=255) == pytest.approx(20 * np.log10(255 / 2), abs=1e-6)
+    assert warped_psnr(
+        view, view_camera, z, target, target_camera, z, max_value=255
+    ) == pytest.approx(20 * np.log10(255 / 2), abs=1e-6)
     # a wall at another depth carries the view to the wrong columns
-    assert warped_psnr(view, view_camera, z / 2, target, target_camera, z / 2,
-                       max_value=255) < 30
+    assert warped_psnr(view, view_camera, z / 2, target, target_camera, z / 2, max_value=255) < 30
 
 
 def test_warped_psnr_needs_a_shared_view():
@@ -31,5 +31,12 @@ def test_warped_psnr_needs_a_shared_view():
     plane = np.zeros((16, 16))
     far_apart = Camera("other", K, t=[1000.0, 0.0, 0.0])
     with pytest.raises(ValueError, match="sees none of the points"):
-        warped_psnr(plane, Camera("view", K), np.full((16, 16), 10.0), plane, far_apart,
-                    np.full((16, 16), 10.0), max_value=255)
+        warped_psnr(
+            plane,
+            Camera("view", K),
+            np.full((16, 16), 10.0),
+            plane,
+            far_apart,
+            np.full((16, 16), 10.0),
+            max_value=255,
+        )

@@ -5,19 +5,30 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from shared_data import shared_data
 
 from mvtools.color.correct import correct_planes, view_tables, working_codes
-from mvtools.color.correspondence import (common_view, common_view_samples, disparity_samples,
-                                          overlap_samples)
-from mvtools.color.lut import (apply_lut, average_target, compose_luts, fit_lut, histogram_lut,
-                               identity_lut, invert_lut)
+from mvtools.color.correspondence import (
+    common_view,
+    common_view_samples,
+    disparity_samples,
+    overlap_samples,
+)
+from mvtools.color.lut import (
+    apply_lut,
+    average_target,
+    compose_luts,
+    fit_lut,
+    histogram_lut,
+    identity_lut,
+    invert_lut,
+)
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
 from mvtools.depth import estimate_disparity
 from mvtools.errors import ConfigError
 from mvtools.geometry.camera import Camera
 from mvtools.io.luts import read_cube, read_lut, write_cube, write_lut
 from mvtools.io.middlebury import MIDDLEBURY_SETS
-from shared_data import shared_data
 
 CODES = np.arange(256, dtype=np.float64)
 
@@ -54,11 +65,13 @@ def test_histogram_lut_matches_a_monotonic_remapping():
     # codes that the changed picture holds map back to where they came from
     for channel in range(3):
         held = np.unique(changed[..., channel])
-        expected = np.array([picture[..., channel][changed[..., channel] == code].mean()
-                             for code in held])
+        expected = np.array(
+            [picture[..., channel][changed[..., channel] == code].mean() for code in held]
+        )
         assert np.max(np.abs(table[channel][held] - expected)) < 2.0
-    np.testing.assert_allclose(histogram_lut(overlap_samples(picture), overlap_samples(picture)),
-                               identity_lut(3), atol=0.6)
+    np.testing.assert_allclose(
+        histogram_lut(overlap_samples(picture), overlap_samples(picture)), identity_lut(3), atol=0.6
+    )
 
 
 def test_inverse_composition_and_average_target():
@@ -71,8 +84,9 @@ def test_inverse_composition_and_average_target():
     mean = average_target([identity_lut(2), table])
     np.testing.assert_allclose(mean[0], (CODES + inverse) / 2, atol=1e-9)
     # and the two corrected views still relate as the view did to the reference
-    np.testing.assert_allclose(compose_luts(invert_lut(mean[0]), mean[1])[1, 20:230],
-                               table[1, 20:230], atol=0.6)
+    np.testing.assert_allclose(
+        compose_luts(invert_lut(mean[0]), mean[1])[1, 20:230], table[1, 20:230], atol=0.6
+    )
 
 
 def test_apply_lut_rounds_and_keeps_the_dtype():
@@ -99,8 +113,7 @@ def test_view_tables_reference_keeps_the_reference():
     codes = rng.integers(0, 256, (5000, 3))
     tables = view_tables([(codes, codes * 0.9), None], 1)
     np.testing.assert_array_equal(tables[1], identity_lut(3))
-    np.testing.assert_allclose(tables[0][:, 10:245], np.tile(CODES[10:245] * 0.9, (3, 1)),
-                               atol=0.3)
+    np.testing.assert_allclose(tables[0][:, 10:245], np.tile(CODES[10:245] * 0.9, (3, 1)), atol=0.3)
     with pytest.raises(ValueError, match="target"):
         view_tables([(codes, codes), None], 1, target="chart")
 
@@ -125,15 +138,19 @@ def test_corrected_right_view_gives_the_unmodified_depth_error(name):
     levels = MIDDLEBURY_SETS[name].disparities
 
     def error(right_view):
-        return score_middlebury(estimate_disparity(left, right_view, max_disparity=levels - 1),
-                                truth, name)
+        return score_middlebury(
+            estimate_disparity(left, right_view, max_disparity=levels - 1), truth, name
+        )
+
     unmodified = error(right)
     mismatched = _mismatched(right)
     width = left.shape[1]
     # without correspondences: the histograms of the columns both views see
     # (disparities up to `levels`, so the middle of the range is a fair cut)
-    tables = histogram_lut(overlap_samples(mismatched, columns=(0, width - levels // 2)),
-                           overlap_samples(left, columns=(levels // 2, width)))
+    tables = histogram_lut(
+        overlap_samples(mismatched, columns=(0, width - levels // 2)),
+        overlap_samples(left, columns=(levels // 2, width)),
+    )
     by_histograms = error(_applied(mismatched, tables))
     # with correspondences from a first estimate on the mismatched pair
     first = estimate_disparity(left, mismatched, max_disparity=levels - 1)
@@ -162,8 +179,8 @@ def test_cube_files_hold_normalised_tables(tmp_path):
     write_cube(tmp_path / "t.cube", table, max_value=255, title="test")
     text = (tmp_path / "t.cube").read_text().splitlines()
     assert text[:2] == ['TITLE "test"', "LUT_1D_SIZE 256"]
-    assert text[4] == "0.000000 0.000000 1.000000"      # code 0: R 0, G 0, B 255
-    assert text[-1] == "1.000000 0.500000 0.000000"     # code 255
+    assert text[4] == "0.000000 0.000000 1.000000"  # code 0: R 0, G 0, B 255
+    assert text[-1] == "1.000000 0.500000 0.000000"  # code 255
     np.testing.assert_allclose(read_cube(tmp_path / "t.cube") * 255, table, atol=1e-3)
     cube = np.random.default_rng(3).uniform(0, 1, (5, 5, 5, 3))
     write_cube(tmp_path / "c.cube", cube, max_value=1.0)

@@ -7,21 +7,25 @@ from mvtools.color.space import downsample_chroma, rgb_to_yuv, upsample_chroma, 
 
 
 def pixel_yuv(rgb, **options):
-    planes = rgb_to_yuv(np.array([[rgb]], dtype=np.uint8 if max(rgb) < 256 else np.uint16),
-                        chroma="444", **options)
+    planes = rgb_to_yuv(
+        np.array([[rgb]], dtype=np.uint8 if max(rgb) < 256 else np.uint16), chroma="444", **options
+    )
     return tuple(int(p[0, 0]) for p in planes)
 
 
 # Hand computation, BT.601 (Kr 0.299, Kb 0.114), limited range at 8 bits:
 # Y = 16 + 219 Y', U = 128 + 224 (B' - Y') / 1.772, V = 128 + 224 (R' - Y') / 1.402.
-@pytest.mark.parametrize("rgb, yuv", [
-    ((255, 0, 0), (81, 90, 240)),     # Y 16 + 65.481 = 81.48; U 128 - 37.80 = 90.2; V 240
-    ((0, 255, 0), (145, 54, 34)),     # Y 16 + 128.55 = 144.55; U 128 - 74.2; V 128 - 93.8
-    ((0, 0, 255), (41, 240, 110)),    # Y 16 + 24.97 = 40.97; U 240; V 128 - 18.2
-    ((255, 255, 255), (235, 128, 128)),
-    ((0, 0, 0), (16, 128, 128)),
-    ((128, 128, 128), (126, 128, 128)),  # 16 + 219 * 128 / 255 = 125.93
-])
+@pytest.mark.parametrize(
+    "rgb, yuv",
+    [
+        ((255, 0, 0), (81, 90, 240)),  # Y 16 + 65.481 = 81.48; U 128 - 37.80 = 90.2; V 240
+        ((0, 255, 0), (145, 54, 34)),  # Y 16 + 128.55 = 144.55; U 128 - 74.2; V 128 - 93.8
+        ((0, 0, 255), (41, 240, 110)),  # Y 16 + 24.97 = 40.97; U 240; V 128 - 18.2
+        ((255, 255, 255), (235, 128, 128)),
+        ((0, 0, 0), (16, 128, 128)),
+        ((128, 128, 128), (126, 128, 128)),  # 16 + 219 * 128 / 255 = 125.93
+    ],
+)
 def test_bt601_limited_8_bit(rgb, yuv):
     assert pixel_yuv(rgb) == yuv
 
@@ -71,7 +75,7 @@ def test_round_trip_444_within_one_code(bits):
     for original, again in zip(planes, back):
         assert np.abs(original.astype(int) - again).max() <= 1
     # ... and YUV of random RGB over the whole range.
-    rgb = rng.integers(0, 2 ** bits, (40, 50, 3)).astype(native)
+    rgb = rng.integers(0, 2**bits, (40, 50, 3)).astype(native)
     planes = rgb_to_yuv(rgb, chroma="444", bits=bits)
     back = rgb_to_yuv(yuv_to_rgb(planes, bits=bits), chroma="444", bits=bits)
     for original, again in zip(planes, back):
@@ -104,9 +108,7 @@ def test_constant_image_stays_constant_in_420():
 
 
 def test_downsample_chroma_hand_values():
-    plane = np.array([[0, 4, 8],
-                      [2, 6, 9],
-                      [10, 10, 1]], np.uint8)
+    plane = np.array([[0, 4, 8], [2, 6, 9], [10, 10, 1]], np.uint8)
     # Blocks: (0,4,2,6) -> 3; (8,8,9,9) -> 8.5 -> 9 (halves up); (10,10,10,10) -> 10; (1,1,1,1) -> 1.
     assert downsample_chroma(plane).tolist() == [[3, 9], [10, 1]]
     assert downsample_chroma(plane, chroma="422").tolist() == [[2, 8], [4, 9], [10, 1]]

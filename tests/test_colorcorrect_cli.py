@@ -14,22 +14,22 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from chart_scene import CORNERS, photograph
+from program_runner import assert_one_line_error, invoke
+from shared_data import shared_data
 
 from mvtools.cli import colorcorrect, estimate_depth
 from mvtools.color import rgb_to_yuv, yuv_to_rgb
 from mvtools.color.chart import delta_e_2000, linear_rgb_to_lab, sample_patches, srgb_to_linear
 from mvtools.color.correspondence import warped_psnr
-from mvtools.geometry.depth import depth_to_z
 from mvtools.datasets import load_middlebury_ground_truth, score_middlebury
+from mvtools.geometry.depth import depth_to_z
 from mvtools.io.cameras import read_cameras
-from mvtools.io.images import read_image, read_pfm, write_image
 from mvtools.io.color_charts import read_colorchecker, read_colorchecker_srgb
+from mvtools.io.images import read_image, read_pfm, write_image
 from mvtools.io.luts import read_cube, read_lut, read_matrix
 from mvtools.io.yuv import YuvFormat, open_video, write_video
 from mvtools.scene.rigs import ColorMismatch
-from chart_scene import CORNERS, photograph
-from program_runner import assert_one_line_error, invoke
-from shared_data import shared_data
 
 LINE = Path(__file__).resolve().parent.parent / "sample_data" / "line"
 FORMAT = YuvFormat(256, 192)
@@ -44,8 +44,9 @@ MISMATCHES = {
     1: ColorMismatch(gain=(1.12, 1.10, 1.05), offset=(-0.02, 0.0, 0.02), gamma=(0.85, 0.80, 0.90)),
     2: ColorMismatch(),
     3: ColorMismatch(gain=(0.90, 0.85, 0.95), offset=(0.05, 0.04, 0.06), gamma=(1.20, 1.35, 1.10)),
-    4: ColorMismatch(gain=(1.15, 1.20, 1.10), offset=(-0.04, -0.05, -0.02),
-                     gamma=(0.90, 0.95, 0.80)),
+    4: ColorMismatch(
+        gain=(1.15, 1.20, 1.10), offset=(-0.04, -0.05, -0.02), gamma=(0.90, 0.95, 0.80)
+    ),
 }
 
 
@@ -77,18 +78,37 @@ def view_arguments(folder: Path, *, depth: bool) -> list:
 
 def warped_luma_psnr(view: int, texture: Path, reference: Path) -> float:
     cameras = read_cameras(LINE / "cameras.txt")
-    z = {index: depth_to_z(frames(LINE / DEPTH.format(index), DEPTH_FORMAT)[0][0], 2.0, 13.0,
-                           bits=16) for index in (view, 2)}
-    return warped_psnr(frames(texture)[0][0], cameras[f"cam{view}"], z[view],
-                       frames(reference)[0][0], cameras["cam2"], z[2], max_value=255)
+    z = {
+        index: depth_to_z(
+            frames(LINE / DEPTH.format(index), DEPTH_FORMAT)[0][0], 2.0, 13.0, bits=16
+        )
+        for index in (view, 2)
+    }
+    return warped_psnr(
+        frames(texture)[0][0],
+        cameras[f"cam{view}"],
+        z[view],
+        frames(reference)[0][0],
+        cameras["cam2"],
+        z[2],
+        max_value=255,
+    )
 
 
 @pytest.fixture(scope="module")
 def corrected(mismatched, tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("corrected")
-    code, stdout, stderr = invoke(colorcorrect.command, *view_arguments(mismatched, depth=True),
-                                  "--cameras", LINE / "cameras.txt", "--depth-range", 2, 13,
-                                  "-o", out)
+    code, stdout, stderr = invoke(
+        colorcorrect.command,
+        *view_arguments(mismatched, depth=True),
+        "--cameras",
+        LINE / "cameras.txt",
+        "--depth-range",
+        2,
+        13,
+        "-o",
+        out,
+    )
     assert code == 0, stderr
     assert "cam4" in stdout
     return out
@@ -124,15 +144,19 @@ def test_reference_view_is_left_as_it_was(corrected):
     np.testing.assert_allclose(tables, np.tile(np.arange(256.0), (3, 1)))
 
 
-@pytest.mark.parametrize("extra, gain", [
-    # the views see slightly different parts of the scene: histograms of whole pictures
-    # are less exact than those of the field of view the cameras share
-    ([], 5.0),
-    (["--cameras", LINE / "cameras.txt", "--depth-range", 2, 13], 10.0),
-])
+@pytest.mark.parametrize(
+    "extra, gain",
+    [
+        # the views see slightly different parts of the scene: histograms of whole pictures
+        # are less exact than those of the field of view the cameras share
+        ([], 5.0),
+        (["--cameras", LINE / "cameras.txt", "--depth-range", 2, 13], 10.0),
+    ],
+)
 def test_histograms_without_depth_bring_the_views_close(mismatched, tmp_path, extra, gain):
-    code, _, stderr = invoke(colorcorrect.command, *view_arguments(mismatched, depth=False),
-                             *extra, "-o", tmp_path)
+    code, _, stderr = invoke(
+        colorcorrect.command, *view_arguments(mismatched, depth=False), *extra, "-o", tmp_path
+    )
     assert code == 0, stderr
     for view in (0, 1, 3, 4):
         before = warped_luma_psnr(view, mismatched / TEXTURE.format(view), LINE / TEXTURE.format(2))
@@ -141,9 +165,19 @@ def test_histograms_without_depth_bring_the_views_close(mismatched, tmp_path, ex
 
 
 def test_average_target_makes_the_views_agree_with_each_other(mismatched, tmp_path):
-    code, _, stderr = invoke(colorcorrect.command, *view_arguments(mismatched, depth=True),
-                             "--cameras", LINE / "cameras.txt", "--depth-range", 2, 13,
-                             "--target", "average", "-o", tmp_path)
+    code, _, stderr = invoke(
+        colorcorrect.command,
+        *view_arguments(mismatched, depth=True),
+        "--cameras",
+        LINE / "cameras.txt",
+        "--depth-range",
+        2,
+        13,
+        "--target",
+        "average",
+        "-o",
+        tmp_path,
+    )
     assert code == 0, stderr
     # the reference changes too, towards the others, and the views agree with it
     reference = tmp_path / TEXTURE.format(2)
@@ -152,17 +186,34 @@ def test_average_target_makes_the_views_agree_with_each_other(mismatched, tmp_pa
         assert warped_luma_psnr(view, tmp_path / TEXTURE.format(view), reference) >= 35.0
 
 
-@pytest.mark.parametrize("arguments, code, fragment", [
-    (["--reference", "nosuch"], 2, "nosuch"),
-    (["--depth", "cam0", str(LINE / DEPTH.format(0))], 2, "--cameras"),
-    (["--depth", "cam0", str(LINE / DEPTH.format(0)), "--cameras", str(LINE / "cameras.txt"),
-      "--depth-range", "2", "13"], 2, "cam1"),
-])
-def test_bad_options_are_one_line_and_write_nothing(mismatched, tmp_path, arguments, code,
-                                                    fragment):
+@pytest.mark.parametrize(
+    "arguments, code, fragment",
+    [
+        (["--reference", "nosuch"], 2, "nosuch"),
+        (["--depth", "cam0", str(LINE / DEPTH.format(0))], 2, "--cameras"),
+        (
+            [
+                "--depth",
+                "cam0",
+                str(LINE / DEPTH.format(0)),
+                "--cameras",
+                str(LINE / "cameras.txt"),
+                "--depth-range",
+                "2",
+                "13",
+            ],
+            2,
+            "cam1",
+        ),
+    ],
+)
+def test_bad_options_are_one_line_and_write_nothing(
+    mismatched, tmp_path, arguments, code, fragment
+):
     out = tmp_path / "out"
-    result = invoke(colorcorrect.command, *view_arguments(mismatched, depth=False), *arguments,
-                    "-o", out)
+    result = invoke(
+        colorcorrect.command, *view_arguments(mismatched, depth=False), *arguments, "-o", out
+    )
     assert result[0] == code
     assert_one_line_error(result[2], fragment)
     assert not out.exists()
@@ -170,25 +221,46 @@ def test_bad_options_are_one_line_and_write_nothing(mismatched, tmp_path, argume
 
 def half_size_view(mismatched: Path, folder: Path) -> Path:
     small = folder / "v9_texture_128x96_yuv420p.yuv"
-    write_video(small, YuvFormat(128, 96), [[plane[::2, ::2] for plane in frame]
-                                            for frame in frames(mismatched / TEXTURE.format(1))])
+    write_video(
+        small,
+        YuvFormat(128, 96),
+        [[plane[::2, ::2] for plane in frame] for frame in frames(mismatched / TEXTURE.format(1))],
+    )
     return small
 
 
 def constant_view(mismatched: Path, folder: Path) -> Path:
     flat = folder / "v9_texture_256x192_yuv420p.yuv"
-    write_video(flat, FORMAT, [[np.full(shape, value, np.uint8) for shape, value
-                                in zip(FORMAT.plane_shapes, (100, 128, 128))]] * 3)
+    write_video(
+        flat,
+        FORMAT,
+        [
+            [
+                np.full(shape, value, np.uint8)
+                for shape, value in zip(FORMAT.plane_shapes, (100, 128, 128))
+            ]
+        ]
+        * 3,
+    )
     return flat
 
 
-@pytest.mark.parametrize("make_view, fragments", [(half_size_view, ("cam9", "128x96")),
-                                                  (constant_view, ("cam9", "constant"))])
-def test_views_that_cannot_be_matched_are_a_data_error(mismatched, tmp_path, make_view,
-                                                       fragments):
-    code, _, stderr = invoke(colorcorrect.command, "--view", "cam0",
-                             mismatched / TEXTURE.format(0), "--view", "cam9",
-                             make_view(mismatched, tmp_path), "-o", tmp_path / "out")
+@pytest.mark.parametrize(
+    "make_view, fragments",
+    [(half_size_view, ("cam9", "128x96")), (constant_view, ("cam9", "constant"))],
+)
+def test_views_that_cannot_be_matched_are_a_data_error(mismatched, tmp_path, make_view, fragments):
+    code, _, stderr = invoke(
+        colorcorrect.command,
+        "--view",
+        "cam0",
+        mismatched / TEXTURE.format(0),
+        "--view",
+        "cam9",
+        make_view(mismatched, tmp_path),
+        "-o",
+        tmp_path / "out",
+    )
     assert code == 1
     assert_one_line_error(stderr, *fragments)
     assert not (tmp_path / "out").exists()
@@ -197,8 +269,17 @@ def test_views_that_cannot_be_matched_are_a_data_error(mismatched, tmp_path, mak
 def test_refuses_to_overwrite_its_input(mismatched, tmp_path):
     for view in (0, 1):
         shutil.copy(mismatched / TEXTURE.format(view), tmp_path)
-    code, _, stderr = invoke(colorcorrect.command, "--view", "cam0", tmp_path / TEXTURE.format(0),
-                             "--view", "cam1", tmp_path / TEXTURE.format(1), "-o", tmp_path)
+    code, _, stderr = invoke(
+        colorcorrect.command,
+        "--view",
+        "cam0",
+        tmp_path / TEXTURE.format(0),
+        "--view",
+        "cam1",
+        tmp_path / TEXTURE.format(1),
+        "-o",
+        tmp_path,
+    )
     assert code == 2
     assert_one_line_error(stderr, "overwrite")
 
@@ -223,15 +304,26 @@ def chart_delta_e(path: Path, corners) -> np.ndarray:
 
 
 @pytest.mark.parametrize("given_corners", [False, True])
-def test_chart_target_brings_the_patches_to_their_reference(chart_video, tmp_path,
-                                                            given_corners):
+def test_chart_target_brings_the_patches_to_their_reference(chart_video, tmp_path, given_corners):
     path, corners = chart_video
-    extra = (["--chart-corners", "cam", ",".join(f"{value:g}" for value in corners.ravel())]
-             if given_corners else [])
-    code, stdout, stderr = invoke(colorcorrect.command, "--view", "cam", path, "--target", "chart",
-                                  "--chart-reference",
-                                  shared_data("color", "colour_science", CHARTS_JSON),
-                                  *extra, "-o", tmp_path)
+    extra = (
+        ["--chart-corners", "cam", ",".join(f"{value:g}" for value in corners.ravel())]
+        if given_corners
+        else []
+    )
+    code, stdout, stderr = invoke(
+        colorcorrect.command,
+        "--view",
+        "cam",
+        path,
+        "--target",
+        "chart",
+        "--chart-reference",
+        shared_data("color", "colour_science", CHARTS_JSON),
+        *extra,
+        "-o",
+        tmp_path,
+    )
     assert code == 0, stderr
     before = chart_delta_e(path, corners)
     after = chart_delta_e(tmp_path / path.name, corners)
@@ -244,11 +336,18 @@ def test_chart_target_brings_the_patches_to_their_reference(chart_video, tmp_pat
 
 
 def test_chart_not_found_is_a_data_error(mismatched, tmp_path):
-    code, _, stderr = invoke(colorcorrect.command, "--view", "cam0",
-                             mismatched / TEXTURE.format(0), "--target", "chart",
-                             "--chart-reference",
-                             shared_data("color", "colour_science", CHARTS_JSON),
-                             "-o", tmp_path / "out")
+    code, _, stderr = invoke(
+        colorcorrect.command,
+        "--view",
+        "cam0",
+        mismatched / TEXTURE.format(0),
+        "--target",
+        "chart",
+        "--chart-reference",
+        shared_data("color", "colour_science", CHARTS_JSON),
+        "-o",
+        tmp_path / "out",
+    )
     assert code == 1
     assert_one_line_error(stderr, "cam0", "no ColorChecker")
     assert not (tmp_path / "out").exists()
@@ -262,16 +361,41 @@ def test_a_mismatched_stereo_pair_of_pictures_through_the_programs(tmp_path):
     right = read_image(cones / "im6.png")
     mismatched = np.round(255.0 * 0.85 * (right / 255.0) ** 1.3).astype(np.uint8)
     write_image(tmp_path / "im6.png", mismatched)
-    code, stdout, stderr = invoke(colorcorrect.command, "--view", "left", cones / "im2.png",
-                                  "--view", "right", tmp_path / "im6.png", "--reference", "left",
-                                  "-o", tmp_path / "corrected")
+    code, _stdout, stderr = invoke(
+        colorcorrect.command,
+        "--view",
+        "left",
+        cones / "im2.png",
+        "--view",
+        "right",
+        tmp_path / "im6.png",
+        "--reference",
+        "left",
+        "-o",
+        tmp_path / "corrected",
+    )
     assert code == 0, stderr
     scores = {}
-    for label, right_view in (("unmodified", cones / "im6.png"),
-                              ("corrected", tmp_path / "corrected" / "im6.png")):
+    for label, right_view in (
+        ("unmodified", cones / "im6.png"),
+        ("corrected", tmp_path / "corrected" / "im6.png"),
+    ):
         output = tmp_path / f"{label}.pfm"
-        assert invoke(estimate_depth.command, "--left", cones / "im2.png", "--right", right_view,
-                      "--disparities", 64, "-o", output, "-q")[0] == 0
+        assert (
+            invoke(
+                estimate_depth.command,
+                "--left",
+                cones / "im2.png",
+                "--right",
+                right_view,
+                "--disparities",
+                64,
+                "-o",
+                output,
+                "-q",
+            )[0]
+            == 0
+        )
         truth = load_middlebury_ground_truth(shared_data("middlebury"), "cones")
         scores[label] = score_middlebury(read_pfm(output), truth, "cones")
     assert scores["corrected"] <= 1.1 * scores["unmodified"]

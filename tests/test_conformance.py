@@ -52,7 +52,7 @@ from mvtools.scene import (
     render,
 )
 
-pytestmark = pytest.mark.slow     # `make test-fast` leaves these out
+pytestmark = pytest.mark.slow  # `make test-fast` leaves these out
 
 #: Y-PSNR (dB) every synthesized view reaches over the pixels the references see.
 SYNTHESIS_THRESHOLD = 30.0
@@ -130,72 +130,281 @@ GENERIC_CONFIG = C + "ViewSynthesis.cfg"
 
 # name, camera file, size, scale, DepthType, ranges (or None: derived), triple, config, own
 _TABLE = [
-    ("ak", P + "cam_param_ak.txt", (640, 480), 0.4, 0, None,
-     ("param_ak26", "inter_ak2627", "param_ak27"), GENERIC_CONFIG, False),
-    ("balloons", P + "cam_param_balloons.txt", (1024, 768), 0.25, 0, _same(KENDO_RANGE),
-     ("param_balloons01", "param_balloons02", "param_balloons03"), KENDO_CONFIG, False),
-    ("butterfly", P + "cam_param_bbb_butterfly2_arc+Znear-far.txt", (1280, 768), 0.25, 1,
-     ((0.464901, -2.424092), (0.512292, -2.491080)), ("param_ptm06", "param_ptm10", "param_ptm13"),
-     C + "ViewSynthesis_butterfly.cfg", True),
-    ("book", P + "cam_param_book_reg.txt", (1024, 768), 0.25, 1,
-     ((23.344623, 54.470788), (23.175928, 54.077165)),
-     ("param_book007", "param_book008", "param_book010"), C + "ViewSynthesis_book.cfg", True),
-    ("champ", P + "cam_param_champ.txt", (1280, 960), 0.2, 0, _same((2281.357719, 7045.261474)),
-     ("param_champ38", "param_champ39", "param_champ41"), C + "ViewSynthesis_champagne.cfg", False),
-    ("champagne", P + "cam_param_champagne.txt", (1280, 960), 0.2, 0,
-     _same((2281.357719, 7045.261474)), ("param_champ38", "param_champ39", "param_champ41"),
-     C + "ViewSynthesis_champagne.cfg", True),
-    ("dog", P + "cam_param_dog.txt", (1280, 960), 0.2, 1, _same((3907.725727, 8221.650623)),
-     ("param_dog38", "param_dog39", "param_dog41"), C + "ViewSynthesis_dog.cfg", True),
-    ("doorflowers", P + "cam_param_doorflowers_reg.txt", (1024, 768), 0.25, 0,
-     ((20.948175, 79.603063), (20.804398, 79.056712)),
-     ("param_doorflowers007", "param_doorflowers008", "param_doorflowers010"),
-     C + "ViewSynthesis_doorflowers.cfg", True),
-    ("kendo_txt", P + "cam_param_kendo.txt", (1024, 768), 0.25, 0, _same(KENDO_RANGE),
-     ("param_kendo01", "param_kendo02", "param_kendo03"), KENDO_CONFIG, False),
-    ("laptop", P + "cam_param_laptop_reg.txt", (1024, 768), 0.25, 1,
-     ((23.393445, 54.584705), (23.331668, 54.440560)),
-     ("param_laptop007", "param_laptop008", "param_laptop010"), C + "ViewSynthesis_laptop.cfg",
-     True),
-    ("lovebird1", P + "cam_param_lovebird1.txt", (1024, 768), 0.25, 1,
-     _same((1418.292789, 156012.206895)), ("param_loveb1_005", "param_loveb1_006", "param_loveb1_008"),
-     C + "ViewSynthesis_lovebird1.cfg", True),
-    ("lovebird1_original", P + "cam_param_lovebird1_original.txt", (1024, 768), 0.25, 0, None,
-     ("param_loveb1_005", "param_loveb1_006", "param_loveb1_008"), C + "ViewSynthesis_lovebird1.cfg",
-     False),
-    ("lovebird2", P + "cam_param_lovebird2.txt", (720, 576), 1 / 3, 1,
-     _same((3733.743119, 112012.293585)), ("param_loveb2_005", "param_loveb2_006", "param_loveb2_008"),
-     C + "ViewSynthesis_lovebird2.cfg", True),
-    ("lovebird2_original", P + "cam_param_lovebird2_original.txt", (720, 576), 1 / 3, 0, None,
-     ("param_loveb2_005", "param_loveb2_006", "param_loveb2_008"), C + "ViewSynthesis_lovebird2.cfg",
-     False),
-    ("news", P + "cam_param_news.txt", (1024, 768), 0.25, 1, _same((3393.977060, 7542.171244)),
-     ("param_news03", "param_news05", "param_news06"), C + "ViewSynthesis_news.cfg", True),
-    ("news_orig", P + "cam_param_news_orig.txt", (1024, 768), 0.25, 1,
-     _same((3393.977060, 7542.171244)), ("param_news03", "param_news05", "param_news06"),
-     C + "ViewSynthesis_news.cfg", False),
-    ("outdoor", P + "cam_param_outdoor_reg.txt", (1024, 768), 0.25, 1,
-     ((5.971234, 191.079475), (5.927299, 189.673574)),
-     ("param_outdoor007", "param_outdoor008", "param_outdoor010"), C + "ViewSynthesis_moabit.cfg",
-     True),
-    ("pantomime", P + "cam_param_pantomime.txt", (1280, 960), 0.2, 1,
-     _same((3907.725727, 8221.650623)), ("param_ptm38", "param_ptm39", "param_ptm41"),
-     C + "ViewSynthesis_pantomime.cfg", True),
-    ("poznan_carpark", P + "cam_param_poznan_carpark.txt", (1920, 1088), 0.125, 0,
-     _same(HALL2_RANGE), ("param_cam3", "param_cam4", "param_cam5"), HALL2_CONFIG, False),
-    ("poznan_hall1", P + "cam_param_poznan_hall1.txt", (1920, 1088), 0.125, 0, _same(HALL2_RANGE),
-     ("param_cam5", "param_cam6", "param_cam7"), HALL2_CONFIG, False),
-    ("poznan_hall2_txt", P + "cam_param_poznan_hall2.txt", (1920, 1088), 0.125, 0,
-     _same(HALL2_RANGE), ("param_cam5", "param_cam6", "param_cam7"), HALL2_CONFIG, False),
-    ("poznan_street", P + "cam_param_poznan_street.txt", (1920, 1088), 0.125, 0, _same(HALL2_RANGE),
-     ("param_cam3", "param_cam4", "param_cam5"), HALL2_CONFIG, False),
-    ("rena", P + "cam_param_rena.txt", (640, 480), 0.4, 0, None,
-     ("param_rena38", "inter_rena3839", "param_rena39"), GENERIC_CONFIG, False),
-    ("hall2", "poznan_hall2/config/VSRS/cam_param_poznanhall2.cfg", (1920, 1088), 0.125, 0,
-     ((-23.394160, -172.531931), (-23.394175, -172.532039)),
-     ("param_cam5", "param_cam6", "param_cam7"), HALL2_CONFIG, True),
-    ("kendo", "kendo/config/VSRS/cam_param_kendo.cfg", (1024, 768), 0.25, 0, _same(KENDO_RANGE),
-     ("param_kendo01", "param_kendo02", "param_kendo03"), KENDO_CONFIG, True),
+    (
+        "ak",
+        P + "cam_param_ak.txt",
+        (640, 480),
+        0.4,
+        0,
+        None,
+        ("param_ak26", "inter_ak2627", "param_ak27"),
+        GENERIC_CONFIG,
+        False,
+    ),
+    (
+        "balloons",
+        P + "cam_param_balloons.txt",
+        (1024, 768),
+        0.25,
+        0,
+        _same(KENDO_RANGE),
+        ("param_balloons01", "param_balloons02", "param_balloons03"),
+        KENDO_CONFIG,
+        False,
+    ),
+    (
+        "butterfly",
+        P + "cam_param_bbb_butterfly2_arc+Znear-far.txt",
+        (1280, 768),
+        0.25,
+        1,
+        ((0.464901, -2.424092), (0.512292, -2.491080)),
+        ("param_ptm06", "param_ptm10", "param_ptm13"),
+        C + "ViewSynthesis_butterfly.cfg",
+        True,
+    ),
+    (
+        "book",
+        P + "cam_param_book_reg.txt",
+        (1024, 768),
+        0.25,
+        1,
+        ((23.344623, 54.470788), (23.175928, 54.077165)),
+        ("param_book007", "param_book008", "param_book010"),
+        C + "ViewSynthesis_book.cfg",
+        True,
+    ),
+    (
+        "champ",
+        P + "cam_param_champ.txt",
+        (1280, 960),
+        0.2,
+        0,
+        _same((2281.357719, 7045.261474)),
+        ("param_champ38", "param_champ39", "param_champ41"),
+        C + "ViewSynthesis_champagne.cfg",
+        False,
+    ),
+    (
+        "champagne",
+        P + "cam_param_champagne.txt",
+        (1280, 960),
+        0.2,
+        0,
+        _same((2281.357719, 7045.261474)),
+        ("param_champ38", "param_champ39", "param_champ41"),
+        C + "ViewSynthesis_champagne.cfg",
+        True,
+    ),
+    (
+        "dog",
+        P + "cam_param_dog.txt",
+        (1280, 960),
+        0.2,
+        1,
+        _same((3907.725727, 8221.650623)),
+        ("param_dog38", "param_dog39", "param_dog41"),
+        C + "ViewSynthesis_dog.cfg",
+        True,
+    ),
+    (
+        "doorflowers",
+        P + "cam_param_doorflowers_reg.txt",
+        (1024, 768),
+        0.25,
+        0,
+        ((20.948175, 79.603063), (20.804398, 79.056712)),
+        ("param_doorflowers007", "param_doorflowers008", "param_doorflowers010"),
+        C + "ViewSynthesis_doorflowers.cfg",
+        True,
+    ),
+    (
+        "kendo_txt",
+        P + "cam_param_kendo.txt",
+        (1024, 768),
+        0.25,
+        0,
+        _same(KENDO_RANGE),
+        ("param_kendo01", "param_kendo02", "param_kendo03"),
+        KENDO_CONFIG,
+        False,
+    ),
+    (
+        "laptop",
+        P + "cam_param_laptop_reg.txt",
+        (1024, 768),
+        0.25,
+        1,
+        ((23.393445, 54.584705), (23.331668, 54.440560)),
+        ("param_laptop007", "param_laptop008", "param_laptop010"),
+        C + "ViewSynthesis_laptop.cfg",
+        True,
+    ),
+    (
+        "lovebird1",
+        P + "cam_param_lovebird1.txt",
+        (1024, 768),
+        0.25,
+        1,
+        _same((1418.292789, 156012.206895)),
+        ("param_loveb1_005", "param_loveb1_006", "param_loveb1_008"),
+        C + "ViewSynthesis_lovebird1.cfg",
+        True,
+    ),
+    (
+        "lovebird1_original",
+        P + "cam_param_lovebird1_original.txt",
+        (1024, 768),
+        0.25,
+        0,
+        None,
+        ("param_loveb1_005", "param_loveb1_006", "param_loveb1_008"),
+        C + "ViewSynthesis_lovebird1.cfg",
+        False,
+    ),
+    (
+        "lovebird2",
+        P + "cam_param_lovebird2.txt",
+        (720, 576),
+        1 / 3,
+        1,
+        _same((3733.743119, 112012.293585)),
+        ("param_loveb2_005", "param_loveb2_006", "param_loveb2_008"),
+        C + "ViewSynthesis_lovebird2.cfg",
+        True,
+    ),
+    (
+        "lovebird2_original",
+        P + "cam_param_lovebird2_original.txt",
+        (720, 576),
+        1 / 3,
+        0,
+        None,
+        ("param_loveb2_005", "param_loveb2_006", "param_loveb2_008"),
+        C + "ViewSynthesis_lovebird2.cfg",
+        False,
+    ),
+    (
+        "news",
+        P + "cam_param_news.txt",
+        (1024, 768),
+        0.25,
+        1,
+        _same((3393.977060, 7542.171244)),
+        ("param_news03", "param_news05", "param_news06"),
+        C + "ViewSynthesis_news.cfg",
+        True,
+    ),
+    (
+        "news_orig",
+        P + "cam_param_news_orig.txt",
+        (1024, 768),
+        0.25,
+        1,
+        _same((3393.977060, 7542.171244)),
+        ("param_news03", "param_news05", "param_news06"),
+        C + "ViewSynthesis_news.cfg",
+        False,
+    ),
+    (
+        "outdoor",
+        P + "cam_param_outdoor_reg.txt",
+        (1024, 768),
+        0.25,
+        1,
+        ((5.971234, 191.079475), (5.927299, 189.673574)),
+        ("param_outdoor007", "param_outdoor008", "param_outdoor010"),
+        C + "ViewSynthesis_moabit.cfg",
+        True,
+    ),
+    (
+        "pantomime",
+        P + "cam_param_pantomime.txt",
+        (1280, 960),
+        0.2,
+        1,
+        _same((3907.725727, 8221.650623)),
+        ("param_ptm38", "param_ptm39", "param_ptm41"),
+        C + "ViewSynthesis_pantomime.cfg",
+        True,
+    ),
+    (
+        "poznan_carpark",
+        P + "cam_param_poznan_carpark.txt",
+        (1920, 1088),
+        0.125,
+        0,
+        _same(HALL2_RANGE),
+        ("param_cam3", "param_cam4", "param_cam5"),
+        HALL2_CONFIG,
+        False,
+    ),
+    (
+        "poznan_hall1",
+        P + "cam_param_poznan_hall1.txt",
+        (1920, 1088),
+        0.125,
+        0,
+        _same(HALL2_RANGE),
+        ("param_cam5", "param_cam6", "param_cam7"),
+        HALL2_CONFIG,
+        False,
+    ),
+    (
+        "poznan_hall2_txt",
+        P + "cam_param_poznan_hall2.txt",
+        (1920, 1088),
+        0.125,
+        0,
+        _same(HALL2_RANGE),
+        ("param_cam5", "param_cam6", "param_cam7"),
+        HALL2_CONFIG,
+        False,
+    ),
+    (
+        "poznan_street",
+        P + "cam_param_poznan_street.txt",
+        (1920, 1088),
+        0.125,
+        0,
+        _same(HALL2_RANGE),
+        ("param_cam3", "param_cam4", "param_cam5"),
+        HALL2_CONFIG,
+        False,
+    ),
+    (
+        "rena",
+        P + "cam_param_rena.txt",
+        (640, 480),
+        0.4,
+        0,
+        None,
+        ("param_rena38", "inter_rena3839", "param_rena39"),
+        GENERIC_CONFIG,
+        False,
+    ),
+    (
+        "hall2",
+        "poznan_hall2/config/VSRS/cam_param_poznanhall2.cfg",
+        (1920, 1088),
+        0.125,
+        0,
+        ((-23.394160, -172.531931), (-23.394175, -172.532039)),
+        ("param_cam5", "param_cam6", "param_cam7"),
+        HALL2_CONFIG,
+        True,
+    ),
+    (
+        "kendo",
+        "kendo/config/VSRS/cam_param_kendo.cfg",
+        (1024, 768),
+        0.25,
+        0,
+        _same(KENDO_RANGE),
+        ("param_kendo01", "param_kendo02", "param_kendo03"),
+        KENDO_CONFIG,
+        True,
+    ),
 ]
 
 
@@ -212,6 +421,7 @@ NAMES = [row[0] for row in _TABLE]
 
 
 # --------------------------------------------------------------------------- the rig
+
 
 def scaled(camera: Camera, scale: float, size: tuple[int, int]) -> Camera:
     """``camera`` for a picture ``scale`` times the size: pixel centres at integers, so
@@ -253,6 +463,7 @@ def one_dimensional(views: Views) -> bool:
 
 
 # --------------------------------------------------------------------------- the scene
+
 
 def _plane_of(seq: Sequence, rig: Rig, z: float) -> tuple[np.ndarray, float]:
     """Normal ``n`` and offset ``c`` of the plane ``n . X = c`` of the file's signed depth z."""
@@ -310,22 +521,35 @@ def layered_scene(seq: Sequence, rig: Rig) -> Scene:
         centre, depth = _hit(virtual, plane, u, v)
         right = _hit(virtual, plane, u + hu * width, v)[0] - centre
         down = _hit(virtual, plane, u, v + hv * height)[0] - centre
-        down -= (down @ right) / (right @ right) * right       # a rectangle, not a rhomb
+        down -= (down @ right) / (right @ right) * right  # a rectangle, not a rhomb
         # About 6 pixels to a noise cell at this depth.
-        texture = NoiseTexture(seed=7 + k, colors=((0.1 + 0.2 * k, 0.3, 0.7 - 0.15 * k),
-                                                   (0.95, 0.85 - 0.1 * k, 0.4 + 0.1 * k)),
-                               frequency=virtual.fx / (6.0 * depth), octaves=4,
-                               pattern="checker", pattern_period=12.0 * depth / virtual.fx)
+        texture = NoiseTexture(
+            seed=7 + k,
+            colors=((0.1 + 0.2 * k, 0.3, 0.7 - 0.15 * k), (0.95, 0.85 - 0.1 * k, 0.4 + 0.1 * k)),
+            frequency=virtual.fx / (6.0 * depth),
+            octaves=4,
+            pattern="checker",
+            pattern_period=12.0 * depth / virtual.fx,
+        )
         if k == 0:
-            primitives.append(Plane("background", point=centre, normal=plane[0],
-                                    u_axis=right / np.linalg.norm(right), texture=texture))
+            primitives.append(
+                Plane(
+                    "background",
+                    point=centre,
+                    normal=plane[0],
+                    u_axis=right / np.linalg.norm(right),
+                    texture=texture,
+                )
+            )
         else:
-            primitives.append(Rectangle(f"card{k}", center=centre, half_u=right, half_v=down,
-                                        texture=texture))
+            primitives.append(
+                Rectangle(f"card{k}", center=centre, half_u=right, half_v=down, texture=texture)
+            )
     return Scene(tuple(primitives), light=tuple(-virtual.R[2]), ambient=0.7)
 
 
 # --------------------------------------------------------------------------- the files
+
 
 def signed_z(seq: Sequence, file_camera: Camera, facing: Camera, depth: np.ndarray) -> np.ndarray:
     """The file's z of each pixel's surface point: through the file camera
@@ -341,7 +565,7 @@ def signed_z(seq: Sequence, file_camera: Camera, facing: Camera, depth: np.ndarr
 def depth_values(z: np.ndarray, depth_range, bits: int) -> np.ndarray:
     """``v = vmax (1/z - 1/Zfar) / (1/Znear - 1/Zfar)``, rounded half up."""
     znear, zfar = depth_range
-    vmax = 2 ** bits - 1
+    vmax = 2**bits - 1
     values = np.floor(vmax * (1.0 / z - 1.0 / zfar) / (1.0 / znear - 1.0 / zfar) + 0.5)
     assert values.min() >= 0 and values.max() <= vmax, "the scene leaves the range"
     return values.astype(np.uint8 if bits == 8 else np.uint16)
@@ -366,8 +590,11 @@ def render_views(seq: Sequence, folder: Path) -> Views:
         assert np.isfinite(render_.depth).all(), f"{seq.name}: {camera.name} sees past the scene"
     width, height = rig.size
     for role, render_ in zip(("left", "virtual", "right"), renders):
-        write_video(folder / f"{role}_{width}x{height}_yuv420p.yuv", YuvFormat(width, height),
-                    [rgb_to_yuv(render_.color)])
+        write_video(
+            folder / f"{role}_{width}x{height}_yuv420p.yuv",
+            YuvFormat(width, height),
+            [rgb_to_yuv(render_.color)],
+        )
     camera_file = folder / "cameras.txt"
     write_cameras(camera_file, rig.files)
     return Views(seq, rig, renders, folder, camera_file)
@@ -381,7 +608,7 @@ def write_depth(views: Views, role: int, bits: int, *, swap: bool = False) -> Pa
     z = signed_z(seq, rig.files[role], rig.facing[role], views.renders[role].depth)
     values = depth_values(z, depth_range, bits)
     if swap:
-        values = (2 ** bits - 1 - values).astype(values.dtype)
+        values = (2**bits - 1 - values).astype(values.dtype)
     width, height = rig.size
     name = ("left", "virtual", "right")[role]
     if bits == 16:
@@ -389,12 +616,14 @@ def write_depth(views: Views, role: int, bits: int, *, swap: bool = False) -> Pa
         write_video(path, YuvFormat(width, height, "400", 16), [(values,)])
     else:
         path = views.folder / f"{name}_depth{'_swapped' * swap}_{width}x{height}_yuv420p.yuv"
-        write_video(path, YuvFormat(width, height), [frame_from_luma(YuvFormat(width, height),
-                                                                     values)])
+        write_video(
+            path, YuvFormat(width, height), [frame_from_luma(YuvFormat(width, height), values)]
+        )
     return path
 
 
 # --------------------------------------------------------------------------- scoring
+
 
 def _edges(index: np.ndarray) -> np.ndarray:
     padded = np.pad(index, 1, mode="edge")
@@ -402,7 +631,7 @@ def _edges(index: np.ndarray) -> np.ndarray:
     edge = np.zeros(index.shape, bool)
     for dy in range(3):
         for dx in range(3):
-            edge |= padded[dy:dy + height, dx:dx + width] != index
+            edge |= padded[dy : dy + height, dx : dx + width] != index
     return edge
 
 
@@ -411,8 +640,9 @@ def seen_by(views: Views, role: int) -> np.ndarray:
     virtual, rig = views.renders[1], views.rig
     height, width = virtual.depth.shape
     v, u = np.mgrid[0:height, 0:width].astype(np.float64)
-    points = rig.facing[1].t + virtual.depth.reshape(-1, 1) * pixel_rays(rig.facing[1], u.ravel(),
-                                                                         v.ravel())
+    points = rig.facing[1].t + virtual.depth.reshape(-1, 1) * pixel_rays(
+        rig.facing[1], u.ravel(), v.ravel()
+    )
     uv, z = project_points(rig.facing[role], points)
     column, row = np.floor(uv[:, 0] + 0.5), np.floor(uv[:, 1] + 0.5)
     inside = (z > 0) & (column >= 1) & (column <= width - 2) & (row >= 1) & (row <= height - 2)
@@ -431,10 +661,11 @@ def masked_psnr(output: Path, views: Views, mask: np.ndarray) -> float:
     synthesized = read_frame(output, YuvFormat(width, height))[0].astype(np.float64)
     truth = rgb_to_yuv(views.renders[1].color)[0].astype(np.float64)
     error = np.mean((synthesized[mask] - truth[mask]) ** 2)
-    return float(10.0 * np.log10(255.0 ** 2 / max(error, 1e-10)))
+    return float(10.0 * np.log10(255.0**2 / max(error, 1e-10)))
 
 
 # --------------------------------------------------------------------------- runs
+
 
 def synthesize(views: Views, *, mode: int, bits: int, corruption: str | None = None) -> float:
     """Run ``synthesize`` with the sequence's configuration; the Y-PSNR of its output.
@@ -444,29 +675,39 @@ def synthesize(views: Views, *, mode: int, bits: int, corruption: str | None = N
     it a camera file with every rotation transposed.
     """
     seq, (width, height) = views.seq, views.rig.size
-    left, right = (write_depth(views, role, bits, swap=corruption == "swapped")
-                   for role in (0, 2))
+    left, right = (write_depth(views, role, bits, swap=corruption == "swapped") for role in (0, 2))
     output = views.folder / f"synthesized_{corruption}_{mode}_{bits}_{width}x{height}_yuv420p.yuv"
     sign = -1.0 if corruption == "negated" else 1.0
     (left_near, left_far), (right_near, right_far) = np.multiply(seq.ranges, sign).tolist()
     camera_file = views.camera_file
     if corruption == "transposed":
         camera_file = views.folder / "cameras_transposed.txt"
-        write_cameras(camera_file, [dataclasses.replace(camera, R=camera.R.T)
-                                    for camera in views.rig.files])
+        write_cameras(
+            camera_file, [dataclasses.replace(camera, R=camera.R.T) for camera in views.rig.files]
+        )
     code, _, err = run_synthesize(
         shared_data("mpeg", *seq.config.split("/")),
-        f"SourceWidth={width}", f"SourceHeight={height}", "StartFrame=0",
-        "TotalNumberOfFrames=1", f"DepthType={seq.depth_type}", f"SynthesisMode={mode}",
+        f"SourceWidth={width}",
+        f"SourceHeight={height}",
+        "StartFrame=0",
+        "TotalNumberOfFrames=1",
+        f"DepthType={seq.depth_type}",
+        f"SynthesisMode={mode}",
         f"CameraParameterFile={camera_file}",
-        f"LeftCameraName={seq.triple[0]}", f"VirtualCameraName={seq.triple[1]}",
+        f"LeftCameraName={seq.triple[0]}",
+        f"VirtualCameraName={seq.triple[1]}",
         f"RightCameraName={seq.triple[2]}",
         f"LeftViewImageName={views.folder / f'left_{width}x{height}_yuv420p.yuv'}",
         f"RightViewImageName={views.folder / f'right_{width}x{height}_yuv420p.yuv'}",
-        f"LeftDepthMapName={left}", f"RightDepthMapName={right}",
-        f"LeftNearestDepthValue={left_near!r}", f"LeftFarthestDepthValue={left_far!r}",
-        f"RightNearestDepthValue={right_near!r}", f"RightFarthestDepthValue={right_far!r}",
-        f"OutputVirtualViewImageName={output}", cwd=views.folder)
+        f"LeftDepthMapName={left}",
+        f"RightDepthMapName={right}",
+        f"LeftNearestDepthValue={left_near!r}",
+        f"LeftFarthestDepthValue={left_far!r}",
+        f"RightNearestDepthValue={right_near!r}",
+        f"RightFarthestDepthValue={right_far!r}",
+        f"OutputVirtualViewImageName={output}",
+        cwd=views.folder,
+    )
     assert code == 0, err
     mask = (seen_by(views, 0) | seen_by(views, 2)) & off_edges(views)
     return masked_psnr(output, views, mask)
@@ -483,27 +724,40 @@ def estimate_depth(views: Views, *, corruption: str | None = None) -> float:
     search_near, search_far = sorted((sign / w for w in usable_inverse_depths(seq, rig)), key=abs)
     config = views.folder / f"ders_{corruption}.cfg"
     output = views.folder / f"estimated_{corruption}_{width}x{height}_yuv420p.yuv"
-    write_config(config, DersParams(
-        depth_type=seq.depth_type, source_width=width, source_height=height,
-        total_number_of_frames=1, left_camera_name=seq.triple[0],
-        center_camera_name=seq.triple[1], right_camera_name=seq.triple[2],
-        file_left_view_image=f"left_{width}x{height}_yuv420p.yuv",
-        file_center_view_image=f"virtual_{width}x{height}_yuv420p.yuv",
-        file_right_view_image=f"right_{width}x{height}_yuv420p.yuv",
-        file_output_depth_map_image=output.name, file_camera_parameter=views.camera_file.name,
-        nearest_depth_value=znear, farthest_depth_value=zfar,
-        nearest_search_depth_value=search_near, farthest_search_depth_value=search_far,
-        number_of_depth_steps=64))
+    write_config(
+        config,
+        DersParams(
+            depth_type=seq.depth_type,
+            source_width=width,
+            source_height=height,
+            total_number_of_frames=1,
+            left_camera_name=seq.triple[0],
+            center_camera_name=seq.triple[1],
+            right_camera_name=seq.triple[2],
+            file_left_view_image=f"left_{width}x{height}_yuv420p.yuv",
+            file_center_view_image=f"virtual_{width}x{height}_yuv420p.yuv",
+            file_right_view_image=f"right_{width}x{height}_yuv420p.yuv",
+            file_output_depth_map_image=output.name,
+            file_camera_parameter=views.camera_file.name,
+            nearest_depth_value=znear,
+            farthest_depth_value=zfar,
+            nearest_search_depth_value=search_near,
+            farthest_search_depth_value=search_far,
+            number_of_depth_steps=64,
+        ),
+    )
     code, _, err = invoke(estimate_depth_command, config, "--data-dir", views.folder, "-o", output)
     assert code == 0, err
     estimated = read_frame(output, YuvFormat(width, height))[0].astype(int)
-    truth = depth_values(signed_z(seq, rig.files[1], rig.facing[1], views.renders[1].depth),
-                         seq.ranges[0], 8).astype(int)
+    truth = depth_values(
+        signed_z(seq, rig.files[1], rig.facing[1], views.renders[1].depth), seq.ranges[0], 8
+    ).astype(int)
     mask = seen_by(views, 0) & seen_by(views, 2) & off_edges(views)
     return float(np.mean(np.abs(estimated - truth)[mask] <= DEPTH_TOLERANCE))
 
 
 # --------------------------------------------------------------------------- the tests
+
 
 #: 1D runs that cannot match the render, and why.
 @pytest.fixture(scope="module")
@@ -541,9 +795,15 @@ def test_shipped_1d_configurations_have_rectified_cameras(corpus):
             assert one_dimensional(corpus(name)), name
 
 
-@pytest.mark.parametrize("name, corruption", [
-    (name, corruption) for name in ("hall2", "news", "kendo")
-    for corruption in ("negated", "swapped")] + [("butterfly", "transposed")])
+@pytest.mark.parametrize(
+    "name, corruption",
+    [
+        (name, corruption)
+        for name in ("hall2", "news", "kendo")
+        for corruption in ("negated", "swapped")
+    ]
+    + [("butterfly", "transposed")],
+)
 def test_corrupted_conventions_fail_by_far(corpus, name, corruption):
     score = synthesize(corpus(name), mode=0, bits=16, corruption=corruption)
     # Measured: 13.5 to 20.6 dB, against 34.6 to 40.3 dB uncorrupted.
@@ -569,33 +829,79 @@ def test_symmetric_rotations_hide_a_transposition(corpus, name):
 #: ``mpeg/``), and the first input the corpus lacks (None: it has them all).
 SHIPPED = [
     (C + "ViewSynthesis.cfg", "vsrs_camera_parameters", "CameraParameterFile", "cam_param_bd.txt"),
-    (C + "ViewSynthesis_book.cfg", "vsrs_camera_parameters", "LeftViewImageName",
-     "BookArrival_7.yuv"),
-    (C + "ViewSynthesis_butterfly.cfg", "vsrs_camera_parameters", "CameraParameterFile",
-     "BigBuckBunny_Butterfly2_Arc+Znear-far.txt"),
-    (C + "ViewSynthesis_champagne.cfg", "vsrs_camera_parameters", "LeftViewImageName",
-     "cmp_38.yuv"),
+    (
+        C + "ViewSynthesis_book.cfg",
+        "vsrs_camera_parameters",
+        "LeftViewImageName",
+        "BookArrival_7.yuv",
+    ),
+    (
+        C + "ViewSynthesis_butterfly.cfg",
+        "vsrs_camera_parameters",
+        "CameraParameterFile",
+        "BigBuckBunny_Butterfly2_Arc+Znear-far.txt",
+    ),
+    (
+        C + "ViewSynthesis_champagne.cfg",
+        "vsrs_camera_parameters",
+        "LeftViewImageName",
+        "cmp_38.yuv",
+    ),
     (C + "ViewSynthesis_dog.cfg", "vsrs_camera_parameters", "LeftViewImageName", "dog_38.yuv"),
-    (C + "ViewSynthesis_doorflowers.cfg", "vsrs_camera_parameters", "LeftViewImageName",
-     "DoorFlowers_7.yuv"),
-    (C + "ViewSynthesis_laptop.cfg", "vsrs_camera_parameters", "LeftViewImageName",
-     "LeavingLaptop_7.yuv"),
-    (C + "ViewSynthesis_lovebird1.cfg", "vsrs_camera_parameters", "LeftViewImageName",
-     "lovebird1_5.yuv"),
-    (C + "ViewSynthesis_lovebird2.cfg", "vsrs_camera_parameters", "LeftViewImageName",
-     "lovebird2_5.yuv"),
-    (C + "ViewSynthesis_moabit.cfg", "vsrs_camera_parameters", "CameraParameterFile",
-     "cam_param_moabit_reg.txt"),
-    (C + "ViewSynthesis_news.cfg", "vsrs_camera_parameters", "LeftViewImageName",
-     "Newspaper_3.yuv"),
-    (C + "ViewSynthesis_pantomime.cfg", "vsrs_camera_parameters", "LeftViewImageName",
-     "ptm_38.yuv"),
+    (
+        C + "ViewSynthesis_doorflowers.cfg",
+        "vsrs_camera_parameters",
+        "LeftViewImageName",
+        "DoorFlowers_7.yuv",
+    ),
+    (
+        C + "ViewSynthesis_laptop.cfg",
+        "vsrs_camera_parameters",
+        "LeftViewImageName",
+        "LeavingLaptop_7.yuv",
+    ),
+    (
+        C + "ViewSynthesis_lovebird1.cfg",
+        "vsrs_camera_parameters",
+        "LeftViewImageName",
+        "lovebird1_5.yuv",
+    ),
+    (
+        C + "ViewSynthesis_lovebird2.cfg",
+        "vsrs_camera_parameters",
+        "LeftViewImageName",
+        "lovebird2_5.yuv",
+    ),
+    (
+        C + "ViewSynthesis_moabit.cfg",
+        "vsrs_camera_parameters",
+        "CameraParameterFile",
+        "cam_param_moabit_reg.txt",
+    ),
+    (
+        C + "ViewSynthesis_news.cfg",
+        "vsrs_camera_parameters",
+        "LeftViewImageName",
+        "Newspaper_3.yuv",
+    ),
+    (
+        C + "ViewSynthesis_pantomime.cfg",
+        "vsrs_camera_parameters",
+        "LeftViewImageName",
+        "ptm_38.yuv",
+    ),
 ] + [
     (f"{folder}/config/VSRS/vsrs_{name}_{variant}.cfg", folder, "LeftViewImageName", missing)
-    for folder, name, views in (("kendo", "kendo", ()), ("poznan_hall2", "poznanhall2",
-                                                        (1, 2, 3, 4, 6, 8)))
-    for variant, missing in (("matlab", "tmp_I_l.yuv"), ("matlab2", "tmp_I_recon_l.yuv"),
-                             ("matlab_WMGeneration", "tmp_I_l.yuv"), ("ori", None))
+    for folder, name, views in (
+        ("kendo", "kendo", ()),
+        ("poznan_hall2", "poznanhall2", (1, 2, 3, 4, 6, 8)),
+    )
+    for variant, missing in (
+        ("matlab", "tmp_I_l.yuv"),
+        ("matlab2", "tmp_I_recon_l.yuv"),
+        ("matlab_WMGeneration", "tmp_I_l.yuv"),
+        ("ori", None),
+    )
     + tuple((f"v{view}", "tmp_I_recon_l.yuv") for view in views)
     + tuple((f"v{view}_ori", None) for view in views)
 ]
@@ -603,19 +909,26 @@ SHIPPED = [
 
 def test_shipped_list_is_complete():
     mpeg = shared_data("mpeg")
-    shipped = {path.relative_to(mpeg).as_posix()
-               for pattern in ("vsrs_configs/*.cfg", "kendo/config/VSRS/vsrs*.cfg",
-                               "poznan_hall2/config/VSRS/vsrs*.cfg")
-               for path in mpeg.glob(pattern)}
+    shipped = {
+        path.relative_to(mpeg).as_posix()
+        for pattern in (
+            "vsrs_configs/*.cfg",
+            "kendo/config/VSRS/vsrs*.cfg",
+            "poznan_hall2/config/VSRS/vsrs*.cfg",
+        )
+        for path in mpeg.glob(pattern)
+    }
     assert shipped == {row[0] for row in SHIPPED}
 
 
-@pytest.mark.parametrize("config, data_dir, key, missing", SHIPPED,
-                         ids=[Path(row[0]).stem for row in SHIPPED])
+@pytest.mark.parametrize(
+    "config, data_dir, key, missing", SHIPPED, ids=[Path(row[0]).stem for row in SHIPPED]
+)
 def test_shipped_configuration_runs_unmodified(tmp_path, config, data_dir, key, missing):
     path = shared_data("mpeg", *config.split("/"))
-    code, _, err = run_synthesize(path, "--data-dir", shared_data("mpeg", *data_dir.split("/")),
-                                  cwd=tmp_path)
+    code, _, err = run_synthesize(
+        path, "--data-dir", shared_data("mpeg", *data_dir.split("/")), cwd=tmp_path
+    )
     if missing is not None:
         assert code == 2, err
         assert_one_line_error(err, f"{path}:", f"{key}: file ", missing, "not found")

@@ -35,10 +35,28 @@ def _random_video(path, pix_fmt: str, frames: int = 2, seed: int = 0) -> YuvForm
 
 
 def _ffmpeg(source, source_fmt: str, output, pix_fmt: str) -> bytes:
-    demuxer = [] if source.suffix == ".y4m" else ["-f", "rawvideo", "-pix_fmt", source_fmt,
-                                                  "-s", f"{WIDTH}x{HEIGHT}"]
-    subprocess.run([FFMPEG, "-v", "error", "-y", *demuxer, "-i", str(source),
-                    "-f", "rawvideo", "-pix_fmt", pix_fmt, str(output)], check=True)
+    demuxer = (
+        []
+        if source.suffix == ".y4m"
+        else ["-f", "rawvideo", "-pix_fmt", source_fmt, "-s", f"{WIDTH}x{HEIGHT}"]
+    )
+    subprocess.run(
+        [
+            FFMPEG,
+            "-v",
+            "error",
+            "-y",
+            *demuxer,
+            "-i",
+            str(source),
+            "-f",
+            "rawvideo",
+            "-pix_fmt",
+            pix_fmt,
+            str(output),
+        ],
+        check=True,
+    )
     return output.read_bytes()
 
 
@@ -65,7 +83,7 @@ def test_y4m_to_y4m_keeps_every_byte_and_the_frame_rate(tmp_path):
     fmt = _random_video(tmp_path / "planes.yuv", "yuv420p")
     data = (tmp_path / "planes.yuv").read_bytes()
     header = f"YUV4MPEG2 W{WIDTH} H{HEIGHT} F30000:1001 Ip A1:1 C420jpeg XYSCSS=420JPEG\n"
-    frames = [data[i:i + fmt.frame_bytes] for i in range(0, len(data), fmt.frame_bytes)]
+    frames = [data[i : i + fmt.frame_bytes] for i in range(0, len(data), fmt.frame_bytes)]
     source = header.encode("ascii") + b"".join(b"FRAME\n" + frame for frame in frames)
     (tmp_path / "in.y4m").write_bytes(source)
     _convert(tmp_path / "in.y4m", "-o", tmp_path / "out.y4m")
@@ -83,10 +101,16 @@ def test_y4m_to_raw_is_ffmpegs_rawvideo(tmp_path, pix_fmt):
     assert (tmp_path / f"ours_{WIDTH}x{HEIGHT}_{pix_fmt}.yuv").read_bytes() == theirs
 
 
-DEPTHS = [("yuv420p", "yuv420p10le"), ("yuv420p10le", "yuv420p"),
-          ("yuv444p", "yuv444p16le"), ("yuv444p16le", "yuv444p"),
-          ("yuv422p10le", "yuv422p16le"), ("yuv422p16le", "yuv422p10le"),
-          ("yuv420p12le", "yuv420p"), ("yuv420p16le", "yuv420p12le")]
+DEPTHS = [
+    ("yuv420p", "yuv420p10le"),
+    ("yuv420p10le", "yuv420p"),
+    ("yuv444p", "yuv444p16le"),
+    ("yuv444p16le", "yuv444p"),
+    ("yuv422p10le", "yuv422p16le"),
+    ("yuv422p16le", "yuv422p10le"),
+    ("yuv420p12le", "yuv420p"),
+    ("yuv420p16le", "yuv420p12le"),
+]
 
 
 @needs_ffmpeg
@@ -100,9 +124,22 @@ def test_bit_depth_change_is_ffmpegs(tmp_path, source_fmt, target_fmt):
 
 
 @needs_ffmpeg
-@pytest.mark.parametrize(("from_bits", "to_bits"),
-                         [(9, 8), (10, 8), (12, 9), (12, 8), (14, 9), (14, 8), (16, 9), (16, 8),
-                          (16, 14), (8, 14), (9, 16)])
+@pytest.mark.parametrize(
+    ("from_bits", "to_bits"),
+    [
+        (9, 8),
+        (10, 8),
+        (12, 9),
+        (12, 8),
+        (14, 9),
+        (14, 8),
+        (16, 9),
+        (16, 8),
+        (16, 14),
+        (8, 14),
+        (9, 16),
+    ],
+)
 def test_requantize_is_swscale_for_every_shift(tmp_path, from_bits, to_bits):
     # Depths the files do not carry (9, 14 bits) reach every dither matrix (1..8 bits dropped).
     def pix_fmt(bits):
@@ -111,18 +148,23 @@ def test_requantize_is_swscale_for_every_shift(tmp_path, from_bits, to_bits):
     def dtype(bits):
         return np.dtype(np.uint8 if bits == 8 else "<u2")
 
-    planes = np.random.default_rng(from_bits * to_bits).integers(
-        0, 2 ** from_bits, (3, HEIGHT, WIDTH)).astype(dtype(from_bits))
+    planes = (
+        np.random.default_rng(from_bits * to_bits)
+        .integers(0, 2**from_bits, (3, HEIGHT, WIDTH))
+        .astype(dtype(from_bits))
+    )
     (tmp_path / "in.yuv").write_bytes(planes.tobytes())
-    theirs = _ffmpeg(tmp_path / "in.yuv", pix_fmt(from_bits), tmp_path / "out.yuv",
-                     pix_fmt(to_bits))
+    theirs = _ffmpeg(
+        tmp_path / "in.yuv", pix_fmt(from_bits), tmp_path / "out.yuv", pix_fmt(to_bits)
+    )
     ours = np.stack([requantize(plane, from_bits, to_bits) for plane in planes])
     assert ours.astype(dtype(to_bits)).tobytes() == theirs
 
 
-@pytest.mark.parametrize(("shallow", "deep"), [("yuv420p", "yuv420p10le"),
-                                               ("yuv444p", "yuv444p16le"),
-                                               ("yuv420p10le", "yuv420p16le")])
+@pytest.mark.parametrize(
+    ("shallow", "deep"),
+    [("yuv420p", "yuv420p10le"), ("yuv444p", "yuv444p16le"), ("yuv420p10le", "yuv420p16le")],
+)
 def test_deeper_and_back_gives_every_sample_back(tmp_path, shallow, deep):
     source = tmp_path / f"in_{WIDTH}x{HEIGHT}_{shallow}.yuv"
     _random_video(source, shallow)

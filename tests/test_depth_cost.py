@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from shared_data import shared_data
 
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
 from mvtools.depth import METHODS, estimate_disparity
 from mvtools.depth.cost import census_gradient_cost, census_transform, support_weights
-from shared_data import shared_data
 
 # the neighbours of a 5x5 window with step 2, in the order of the census bits
 SPARSE_5X5 = [(-2, -2), (-2, 0), (-2, 2), (0, -2), (0, 2), (2, -2), (2, 0), (2, 2)]
@@ -49,8 +49,9 @@ def test_one_differing_bit_costs_its_share_of_the_weights():
     # outside the 3x3 Sobel support of the centre, so the gradients agree.
     right = left.copy()
     right[2, 4] = 60
-    cost = census_gradient_cost(left, right, min_disparity=0, levels=1,
-                                census_window=(5, 5), census_step=2, gamma=15.0)
+    cost = census_gradient_cost(
+        left, right, min_disparity=0, levels=1, census_window=(5, 5), census_step=2, gamma=15.0
+    )
     differences_left = np.array([10, 0, 10, 30, 30, 0, 0, 0])
     differences_right = differences_left.copy()
     differences_right[4] = 40
@@ -82,8 +83,14 @@ def test_unknown_cost_names_the_known_ones():
 def test_census_gradient_cost_recovers_a_constant_shift_exactly(method):
     texture = np.random.default_rng(1).uniform(0, 255, (60, 100, 3)).astype(np.uint8)
     # x_right = x_left - 7, and a range not starting at 0
-    disparity = estimate_disparity(texture[:, :90], texture[:, 7:97], min_disparity=4,
-                                   max_disparity=12, method=method, cost="census-gradient")
+    disparity = estimate_disparity(
+        texture[:, :90],
+        texture[:, 7:97],
+        min_disparity=4,
+        max_disparity=12,
+        method=method,
+        cost="census-gradient",
+    )
     assert np.all(disparity == 7.0)
 
 

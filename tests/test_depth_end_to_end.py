@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from shared_data import shared_data
+from synthesize_runner import run_synthesize
 
 from mvtools.datasets import cones_multiview, estimate_cones_disparities, write_cones_case
 from mvtools.depth import estimate_disparity
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.metrics import psnr
-from shared_data import shared_data
-from synthesize_runner import run_synthesize
 
 MIN_PSNR = 30.2
 
@@ -26,8 +26,8 @@ MIN_PSNR = 30.2
 def cones_estimated():
     root = shared_data("middlebury")
     disparities = estimate_cones_disparities(
-        root, lambda left, right, count: estimate_disparity(left, right,
-                                                            max_disparity=count - 1))
+        root, lambda left, right, count: estimate_disparity(left, right, max_disparity=count - 1)
+    )
     return cones_multiview(root, disparities=disparities)
 
 
@@ -37,8 +37,9 @@ def test_cones_im4_from_estimated_depth(tmp_path, cones_estimated, mode):
     code, _, err = run_synthesize(config, cwd=tmp_path)
     assert code == 0, err
     width, height = cones_estimated.size
-    result = read_frame(tmp_path / f"synthesized_im4_{width}x{height}_yuv420p.yuv",
-                        YuvFormat(width, height))[0]
+    result = read_frame(
+        tmp_path / f"synthesized_im4_{width}x{height}_yuv420p.yuv", YuvFormat(width, height)
+    )[0]
     assert psnr(cones_estimated.yuv["im4"][0], result, max_value=255) >= MIN_PSNR
 
 
@@ -50,5 +51,4 @@ def test_estimated_disparities_replace_the_ground_truth():
     np.testing.assert_allclose(case.z["im2"], 400.0)
     np.testing.assert_allclose(case.disparity["im6"], 10.0)
     with pytest.raises(ValueError, match="finite and positive"):
-        cones_multiview(root, disparities={"im2": constant["im2"] * 0,
-                                           "im6": constant["im6"]})
+        cones_multiview(root, disparities={"im2": constant["im2"] * 0, "im6": constant["im6"]})

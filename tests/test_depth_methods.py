@@ -10,10 +10,13 @@ import pytest
 
 from mvtools.depth import METHODS
 from mvtools.depth.bp import belief_propagation
-from mvtools.depth.graphcut import (alpha_expansion, graphcut_volume, label_energies,
-                                    smoothness_weights)
+from mvtools.depth.graphcut import (
+    alpha_expansion,
+    graphcut_volume,
+    label_energies,
+    smoothness_weights,
+)
 from mvtools.depth.local import guided_filter
-
 
 
 def _brute_force(cost, right, truncation):
@@ -22,8 +25,10 @@ def _brute_force(cost, right, truncation):
     best = None
     for labels in itertools.product(range(levels), repeat=cost.shape[1]):
         labels = np.array(labels)
-        energy = (cost[0, np.arange(len(labels)), labels].sum()
-                  + (right[0] * np.minimum(np.abs(np.diff(labels)), truncation)).sum())
+        energy = (
+            cost[0, np.arange(len(labels)), labels].sum()
+            + (right[0] * np.minimum(np.abs(np.diff(labels)), truncation)).sum()
+        )
         if best is None or energy < best[0]:
             best = (energy, labels)
     return best[1]
@@ -75,8 +80,7 @@ def test_graphcut_volume_minimum_is_the_expansion_labels():
     generator = np.random.default_rng(6)
     cost = generator.uniform(0, 2, (12, 15, 6)).astype(np.float32)
     guide = generator.uniform(0, 255, (12, 15, 3)).astype(np.float32)
-    right, down = smoothness_weights(cost, guide, smoothing=16.0, smoothing2=1.0,
-                                     colour_scale=10.0)
+    right, down = smoothness_weights(cost, guide, smoothing=16.0, smoothing2=1.0, colour_scale=10.0)
     labels = alpha_expansion(cost, right, down, truncation=4)
     volume = graphcut_volume(cost, guide)
     # alpha-expansion ends where no single pixel can lower the energy
@@ -86,8 +90,7 @@ def test_graphcut_volume_minimum_is_the_expansion_labels():
 def test_smoothness_weights_follow_ders():
     cost = np.array([[[0.0, 2.0]] * 3], np.float32)
     guide = np.array([[[10, 10, 10], [10, 10, 10], [250, 250, 250]]], np.float32)
-    right, down = smoothness_weights(cost, guide, smoothing=4.0, smoothing2=0.5,
-                                     colour_scale=10.0)
+    right, down = smoothness_weights(cost, guide, smoothing=4.0, smoothing2=0.5, colour_scale=10.0)
     # one grey level of an 8-bit data cost is range / 255 = 2 / 255; equal colours get
     # SmoothingCoefficient of them, a strong edge SmoothingCoefficient * SmoothingCoefficient2
     assert down.shape == (0, 3)
@@ -97,8 +100,13 @@ def test_smoothness_weights_follow_ders():
 def test_guided_filter_keeps_constants_and_guide_edges():
     guide = np.zeros((20, 30, 3), np.float32)
     guide[:, 15:] = 1.0
-    volume = np.stack([np.full((20, 30), 0.3, np.float32),
-                       np.where(guide[:, :, 0] > 0, 1.0, 0.0).astype(np.float32)], axis=2)
+    volume = np.stack(
+        [
+            np.full((20, 30), 0.3, np.float32),
+            np.where(guide[:, :, 0] > 0, 1.0, 0.0).astype(np.float32),
+        ],
+        axis=2,
+    )
     filtered = guided_filter(volume, guide, radius=4, epsilon=1e-4)
     assert np.allclose(filtered[:, :, 0], 0.3, atol=1e-5)
     # a cost step along the guide's edge is not blurred across it

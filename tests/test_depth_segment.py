@@ -7,12 +7,18 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy import ndimage
+from shared_data import shared_data
 
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
 from mvtools.depth import estimate_disparity
-from mvtools.depth.segment import (fill_from_planes, fit_segment_planes, plane_disparity,
-                                   segment_image, select_segment_planes, trim_fattening)
-from shared_data import shared_data
+from mvtools.depth.segment import (
+    fill_from_planes,
+    fit_segment_planes,
+    plane_disparity,
+    segment_image,
+    select_segment_planes,
+    trim_fattening,
+)
 
 
 def _blocks():
@@ -44,8 +50,9 @@ def test_piecewise_constant_image_is_segmented_into_its_regions():
 
 def test_planes_are_exact_despite_outliers_and_missing_pixels():
     _, labels = _blocks()
-    true_planes = np.array([[0.1, -0.05, 5.0], [0.0, 0.0, 12.0], [-0.2, 0.1, 20.0],
-                            [0.05, 0.3, 2.0]])
+    true_planes = np.array(
+        [[0.1, -0.05, 5.0], [0.0, 0.0, 12.0], [-0.2, 0.1, 20.0], [0.05, 0.3, 2.0]]
+    )
     disparity = plane_disparity(true_planes, labels).astype(np.float64)
     assert disparity[10, 20] == pytest.approx(0.1 * 20 - 0.05 * 10 + 5.0)
     generator = np.random.default_rng(1)
@@ -65,9 +72,9 @@ def test_fill_from_planes_fills_only_invalid_pixels_of_trusted_segments():
     truth = plane_disparity(planes, labels)
     disparity = truth.copy()
     valid = np.ones(labels.shape, bool)
-    valid[5:10, 5:15] = False            # a hole in segment 0: filled on its plane
+    valid[5:10, 5:15] = False  # a hole in segment 0: filled on its plane
     disparity[5:10, 5:15] = 50.0
-    valid[labels == 1] = False           # segment 1 without support: left alone
+    valid[labels == 1] = False  # segment 1 without support: left alone
     valid[(labels == 1) & (np.arange(80) % 10 == 0)] = True
     valid[labels == 3] = np.random.default_rng(2).random((labels == 3).sum()) > 0.5
     disparity[labels == 3] += np.random.default_rng(3).uniform(-10, 10, (labels == 3).sum())
@@ -82,7 +89,7 @@ def test_fill_from_planes_fills_only_invalid_pixels_of_trusted_segments():
 def test_segments_take_their_plane_only_where_it_matches_as_well():
     image, labels = _blocks()
     rows, cols = labels.shape
-    ys, xs = np.mgrid[0:rows, 0:cols]
+    _ys, xs = np.mgrid[0:rows, 0:cols]
     planes = np.array([[0.1, 0.0, 5.0], [0.0, 0.0, 12.0], [0.0, 0.2, 20.0], [0.0, 0.0, 2.0]])
     truth = plane_disparity(planes, labels).astype(np.float64)
     # segment 3 is curved: no plane explains it
@@ -96,13 +103,14 @@ def test_segments_take_their_plane_only_where_it_matches_as_well():
     wrong = np.isin(labels, (0, 2)) & (generator.random(labels.shape) < 0.2)
     disparity[wrong] += generator.choice([-3.0, 3.0], wrong.sum())
     valid = np.ones(labels.shape, bool)
-    valid[10:20, 10:20] = False          # ... and a hole in segment 0
+    valid[10:20, 10:20] = False  # ... and a hole in segment 0
     disparity[10:20, 10:20] = 30.0
     # segment 1: too few valid pixels to trust its plane
     valid[labels == 1] = generator.random((labels == 1).sum()) < 0.2
     disparity[labels == 1] += 7.0
-    chosen, now_valid = select_segment_planes(disparity, valid, labels, cost, image,
-                                              min_disparity=1)
+    chosen, now_valid = select_segment_planes(
+        disparity, valid, labels, cost, image, min_disparity=1
+    )
     planar = np.isin(labels, (0, 2))
     np.testing.assert_allclose(chosen[planar], truth[planar], atol=1e-4)
     assert now_valid[planar].all()
@@ -140,8 +148,7 @@ def test_segment_planes_meet_the_tsukuba_venus_and_teddy_bars():
     # measured bad 1.0 (all known pixels of Tsukuba and Venus, non-occluded of Teddy),
     # bp: 1.73 %, 0.54 %, 5.59 % (2.61 %, 2.16 %, 7.05 % without plane selection and
     # fattening trim)
-    for name, disparities, bar in (("tsukuba", 16, 2.0), ("venus", 32, 1.0),
-                                   ("teddy", 64, 6.0)):
+    for name, disparities, bar in (("tsukuba", 16, 2.0), ("venus", 32, 1.0), ("teddy", 64, 6.0)):
         left, right = middlebury_pair(root, name)
         truth = load_middlebury_ground_truth(root, name)
         disparity = estimate_disparity(left, right, max_disparity=disparities - 1)
@@ -154,18 +161,19 @@ def test_slanted_plane_pair_with_segmentation():
     # d = 4 + 0.05 x + 0.03 y: the right view at (y, x - d) shows the left's (y, x)
     disparity = 4.0 + 0.05 * xs + 0.03 * ys
     generator = np.random.default_rng(4)
-    texture = ndimage.gaussian_filter(generator.uniform(0, 255, (rows, 2 * cols, 3)),
-                                      (1.0, 1.0, 0))
+    texture = ndimage.gaussian_filter(generator.uniform(0, 255, (rows, 2 * cols, 3)), (1.0, 1.0, 0))
     texture = (texture - texture.min()) * 255 / np.ptp(texture)
     # the left view samples texture column x; the right view's column xr shows the
     # point whose left column x solves x - d(x, y) = xr, i.e. x = (xr + 4 + 0.03 y) / 0.95
     left = texture[:, :cols]
     source = (xs + 4.0 + 0.03 * ys) / 0.95
-    right = np.stack([ndimage.map_coordinates(texture[:, :, c], [ys, source], order=3)
-                      for c in range(3)], axis=2)
+    right = np.stack(
+        [ndimage.map_coordinates(texture[:, :, c], [ys, source], order=3) for c in range(3)], axis=2
+    )
     left, right = (np.clip(np.rint(v), 0, 255).astype(np.uint8) for v in (left, right))
-    estimate = estimate_disparity(left, right, max_disparity=16, method="sgm",
-                                  subpixel=True, segmentation=True)
+    estimate = estimate_disparity(
+        left, right, max_disparity=16, method="sgm", subpixel=True, segmentation=True
+    )
     error = np.abs(estimate - disparity)[2:-2, 16:-2]
     assert np.mean(error > 1.0) < 0.01
     assert np.median(error) < 0.15
@@ -176,8 +184,9 @@ def test_segmentation_improves_venus():
     left, right = middlebury_pair(root, "venus")
     truth = load_middlebury_ground_truth(root, "venus")
     # measured bad 1.0 over all known pixels: 1.32 % with segmentation, 1.82 % without
-    disparity = estimate_disparity(left, right, max_disparity=31, method="sgm", subpixel=True,
-                                   segmentation=True)
+    disparity = estimate_disparity(
+        left, right, max_disparity=31, method="sgm", subpixel=True, segmentation=True
+    )
     assert score_middlebury(disparity, truth, "venus") < 1.6
 
 
@@ -195,11 +204,14 @@ def test_bad_arguments():
     with pytest.raises(ValueError, match="fractions"):
         fill_from_planes(np.zeros((8, 8)), np.ones((8, 8), bool), labels, min_inliers=1.5)
     with pytest.raises(ValueError, match="volume"):
-        select_segment_planes(np.zeros((8, 8)), np.ones((8, 8), bool), labels,
-                              np.zeros((8, 7, 3)), image)
+        select_segment_planes(
+            np.zeros((8, 8)), np.ones((8, 8), bool), labels, np.zeros((8, 7, 3)), image
+        )
     with pytest.raises(ValueError, match="margin"):
-        select_segment_planes(np.zeros((8, 8)), np.ones((8, 8), bool), labels,
-                              np.zeros((8, 8, 3)), image, margin=-0.1)
+        select_segment_planes(
+            np.zeros((8, 8)), np.ones((8, 8), bool), labels, np.zeros((8, 8, 3)), image, margin=-0.1
+        )
     with pytest.raises(ValueError, match="reach"):
-        trim_fattening(np.zeros((8, 8)), np.ones((8, 8), bool), labels, np.zeros((8, 8, 3)),
-                       image, reach=0)
+        trim_fattening(
+            np.zeros((8, 8)), np.ones((8, 8), bool), labels, np.zeros((8, 8, 3)), image, reach=0
+        )

@@ -6,13 +6,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from scipy import ndimage
+from shared_data import shared_data
 
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
 from mvtools.depth import METHODS, estimate_disparity
 from mvtools.depth.cost import census_transform
 from mvtools.depth.refine import fill_from_background
 from mvtools.io.middlebury import MIDDLEBURY_SETS
-from shared_data import shared_data
 
 
 def _texture(rows, cols, *, seed, blur=0.0):
@@ -33,10 +33,15 @@ def test_constant_integer_shift_is_recovered_exactly(method):
     assert disparity.dtype == np.float32 and disparity.shape == (60, 90)
     assert np.all(disparity == 7.0)
     # a search range not starting at 0, in both views
-    assert np.all(estimate_disparity(left, right, min_disparity=4, max_disparity=12,
-                                     method=method) == 7.0)
-    assert np.all(estimate_disparity(texture[:, 10:90], texture[:, 7:87], min_disparity=-6,
-                                     max_disparity=2, method=method) == -3.0)
+    assert np.all(
+        estimate_disparity(left, right, min_disparity=4, max_disparity=12, method=method) == 7.0
+    )
+    assert np.all(
+        estimate_disparity(
+            texture[:, 10:90], texture[:, 7:87], min_disparity=-6, max_disparity=2, method=method
+        )
+        == -3.0
+    )
 
 
 @pytest.mark.parametrize("shift", [4.5, 6.25])
@@ -66,15 +71,17 @@ def test_two_planes_and_the_occluded_strip_filled_from_the_background(method):
     right = background[:, columns + far].copy()
     shows_square = (columns + near >= x0) & (columns + near < x1)
     right[np.ix_(in_square_rows, shows_square)] = foreground[
-        np.ix_(in_square_rows, columns[shows_square] + near)]
-    disparity = estimate_disparity(left.astype(np.uint8), right.astype(np.uint8),
-                                   max_disparity=20, method=method)
-    square = disparity[top + 3:bottom - 3, x0 + 3:x1 - 3]
+        np.ix_(in_square_rows, columns[shows_square] + near)
+    ]
+    disparity = estimate_disparity(
+        left.astype(np.uint8), right.astype(np.uint8), max_disparity=20, method=method
+    )
+    square = disparity[top + 3 : bottom - 3, x0 + 3 : x1 - 3]
     assert np.mean(np.abs(square - near) < 0.5) > 0.98
-    assert np.mean(np.abs(disparity[5:top - 3, 25:-5] - far) < 0.5) > 0.98
+    assert np.mean(np.abs(disparity[5 : top - 3, 25:-5] - far) < 0.5) > 0.98
     # Background points left of the square, x in [x0 - 8, x0), hide behind it in
     # the right view: they must take the background's disparity, not the square's.
-    strip = disparity[top + 3:bottom - 3, x0 - (near - far):x0 - 1]
+    strip = disparity[top + 3 : bottom - 3, x0 - (near - far) : x0 - 1]
     assert np.mean(np.abs(strip - far) < 1.0) > 0.9
 
 
@@ -83,11 +90,21 @@ def test_two_planes_and_the_occluded_strip_filled_from_the_background(method):
 # (non-occluded); on Tsukuba graphcut 2.50 and bp 2.61. OpenCV StereoSGBM (HH, block 5)
 # on the same data and protocol: 5.7, 3.1, 15.3, 7.2, 16.5, 10.8, 10.8
 # (tests/test_middlebury.py). Each threshold is below SGBM's score.
-@pytest.mark.parametrize("name, method, threshold", [
-    ("tsukuba", "sgm", 3.5), ("venus", "sgm", 2.6), ("teddy", "sgm", 7.6),
-    ("cones", "sgm", 3.8), ("Art", "sgm", 9.0), ("Dolls", "sgm", 6.8),
-    ("Moebius", "sgm", 9.8), ("tsukuba", "local", 6.2), ("tsukuba", "graphcut", 3.5),
-    ("tsukuba", "bp", 3.5)])
+@pytest.mark.parametrize(
+    "name, method, threshold",
+    [
+        ("tsukuba", "sgm", 3.5),
+        ("venus", "sgm", 2.6),
+        ("teddy", "sgm", 7.6),
+        ("cones", "sgm", 3.8),
+        ("Art", "sgm", 9.0),
+        ("Dolls", "sgm", 6.8),
+        ("Moebius", "sgm", 9.8),
+        ("tsukuba", "local", 6.2),
+        ("tsukuba", "graphcut", 3.5),
+        ("tsukuba", "bp", 3.5),
+    ],
+)
 def test_middlebury_scores(name, method, threshold):
     root = shared_data("middlebury")
     left, right = middlebury_pair(root, name)
@@ -121,10 +138,8 @@ def test_bad_ranges_and_shapes():
 
 
 def test_fill_from_background_by_hand():
-    disparity = np.array([[5.0, 9.0, 9.0, 2.0, 7.0],
-                          [1.0, 1.0, 1.0, 1.0, 1.0]], np.float32)
-    valid = np.array([[True, False, False, True, False],
-                      [False, False, False, False, False]])
+    disparity = np.array([[5.0, 9.0, 9.0, 2.0, 7.0], [1.0, 1.0, 1.0, 1.0, 1.0]], np.float32)
+    valid = np.array([[True, False, False, True, False], [False, False, False, False, False]])
     filled = fill_from_background(disparity, valid)
     # between 5 and 2 the smaller (farther) wins; the last pixel has only 2 to its left
     assert filled[0].tolist() == [5.0, 2.0, 2.0, 2.0, 2.0]
@@ -132,9 +147,7 @@ def test_fill_from_background_by_hand():
 
 
 def test_census_bits_by_hand():
-    grey = np.array([[1, 5, 1],
-                     [5, 3, 1],
-                     [1, 1, 9]], np.uint8)
+    grey = np.array([[1, 5, 1], [5, 3, 1], [1, 1, 9]], np.uint8)
     signature = census_transform(grey, window=(3, 3))
     # row-major neighbours of the centre 3, bit set when darker: 1 5 1 / 5 . 1 / 1 1 9
     darker = [1, 0, 1, 0, 1, 1, 1, 0]

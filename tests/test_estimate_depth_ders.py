@@ -13,6 +13,10 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from mirrored_world import write_mirrored_cameras
+from program_runner import assert_one_line_error, run
+from program_runner import invoke as invoke_program
+from shared_data import REPO_ROOT, shared_data
 
 from mvtools.cli.estimate_depth import command
 from mvtools.depth.ders import DersEstimator, Neighbour
@@ -23,14 +27,10 @@ from mvtools.io.cameras import get_camera, read_cameras
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.params import DersParams
 from mvtools.synthesis.working import to_working
-from mirrored_world import write_mirrored_cameras
-from program_runner import assert_one_line_error, run
-from program_runner import invoke as invoke_program
-from shared_data import REPO_ROOT, shared_data
 
 SAMPLE = REPO_ROOT / "sample_data"
 SIZE = (256, 192)
-ZNEAR, ZFAR = 2.0, 13.0          # the sample scene's depth maps
+ZNEAR, ZFAR = 2.0, 13.0  # the sample scene's depth maps
 
 
 def invoke(*args):
@@ -41,8 +41,9 @@ def invoke(*args):
 
 def true_inverse_depth(rig: str, frame: int = 0) -> np.ndarray:
     """1/z of camera 2 from the scene's exact 16-bit depth."""
-    values = read_frame(SAMPLE / rig / "v2_depth_256x192_gray16le.yuv",
-                        YuvFormat(*SIZE, "400", 16), frame)[0]
+    values = read_frame(
+        SAMPLE / rig / "v2_depth_256x192_gray16le.yuv", YuvFormat(*SIZE, "400", 16), frame
+    )[0]
     return 1.0 / depth_to_z(values, ZNEAR, ZFAR, bits=16)
 
 
@@ -50,8 +51,16 @@ def test_line_rig_disparity_range_gives_the_true_depth(tmp_path):
     # Output mapped by the disparity range (NearestDepthValue not given): to camera 1 or 3,
     # 0.1 away at f = 240, disparity 1..12 is z = 24..2 (f B / d) and values 0..255.
     output = tmp_path / "depth_256x192_yuv420p.yuv"
-    code, _, err = run("estimate-depth", SAMPLE / "line" / "depth_cam2.cfg", "--frames", 1,
-                       "NearestDepthValue=0", "FarthestDepthValue=0", "-o", output)
+    code, _, err = run(
+        "estimate-depth",
+        SAMPLE / "line" / "depth_cam2.cfg",
+        "--frames",
+        1,
+        "NearestDepthValue=0",
+        "FarthestDepthValue=0",
+        "-o",
+        output,
+    )
     assert code == 0, err
     assert "NearestDepthValue 2.000000 FarthestDepthValue 24.000000" in err
     description = json.loads(Path(f"{output}.json").read_text())
@@ -60,7 +69,7 @@ def test_line_rig_disparity_range_gives_the_true_depth(tmp_path):
     assert output.stat().st_size == 256 * 192 * 3 // 2
     luma, u, v = read_frame(output, YuvFormat(*SIZE))
     assert (u == 128).all() and (v == 128).all()
-    disparity = 1 + luma / 255.0 * 11                       # the DERS mapping, inverted
+    disparity = 1 + luma / 255.0 * 11  # the DERS mapping, inverted
     error = np.abs(disparity - 24.0 * true_inverse_depth("line"))
     # Measured: 0.95 within 0.25 px (half a SearchLevel 2 step), 0.98 within 0.5 px.
     assert (error <= 0.25).mean() > 0.9
@@ -70,9 +79,17 @@ def test_line_rig_disparity_range_gives_the_true_depth(tmp_path):
 def test_soft_segment_matching_gives_the_true_depth(tmp_path):
     # MatchingMethod 3 on the line rig, read as the disparity-range test above reads it
     output = tmp_path / "depth_256x192_yuv420p.yuv"
-    code, _, err = run("estimate-depth", SAMPLE / "line" / "depth_cam2.cfg", "--frames", 1,
-                       "NearestDepthValue=0", "FarthestDepthValue=0", "MatchingMethod=3",
-                       "-o", output)
+    code, _, err = run(
+        "estimate-depth",
+        SAMPLE / "line" / "depth_cam2.cfg",
+        "--frames",
+        1,
+        "NearestDepthValue=0",
+        "FarthestDepthValue=0",
+        "MatchingMethod=3",
+        "-o",
+        output,
+    )
     assert code == 0, err
     luma = read_frame(output, YuvFormat(*SIZE))[0]
     error = np.abs(1 + luma / 255.0 * 11 - 24.0 * true_inverse_depth("line"))
@@ -82,14 +99,23 @@ def test_soft_segment_matching_gives_the_true_depth(tmp_path):
 
 def test_arc_rig_z_range_gives_the_true_depth_in_16_bits(tmp_path):
     output = tmp_path / "depth.yuv"
-    code, _, err = run("estimate-depth", SAMPLE / "arc" / "depth_cam2.cfg", "--frames", 1,
-                       "NumberOfDepthSteps=64", "--depth-bits", 16, "-o", output)
+    code, _, err = run(
+        "estimate-depth",
+        SAMPLE / "arc" / "depth_cam2.cfg",
+        "--frames",
+        1,
+        "NumberOfDepthSteps=64",
+        "--depth-bits",
+        16,
+        "-o",
+        output,
+    )
     assert code == 0, err
-    assert output.stat().st_size == 256 * 192 * 2                 # 4:0:0, 16 bits
+    assert output.stat().st_size == 256 * 192 * 2  # 4:0:0, 16 bits
     assert json.loads(Path(f"{output}.json").read_text())["pix_fmt"] == "gray16le"
     values = read_frame(output, YuvFormat(*SIZE, "400", 16))[0]
     inverse = 1.0 / depth_to_z(values, ZNEAR, ZFAR, bits=16)
-    step = (1 / ZNEAR - 1 / ZFAR) / 63                            # between two planes
+    step = (1 / ZNEAR - 1 / ZFAR) / 63  # between two planes
     error = np.abs(inverse - true_inverse_depth("arc")) / step
     # Measured: 0.93 within one plane, 0.98 within two.
     assert (error <= 1).mean() > 0.85
@@ -105,10 +131,21 @@ def test_negative_range_of_a_mirrored_world_gives_the_true_depth(tmp_path):
     shutil.copytree(SAMPLE / "arc", folder)
     write_mirrored_cameras(folder / "cameras.txt", folder / "cameras.txt")
     output = tmp_path / "depth.yuv"
-    code, _, err = run("estimate-depth", folder / "depth_cam2.cfg", "--frames", 1,
-                       "NumberOfDepthSteps=64", "NearestDepthValue=-2", "FarthestDepthValue=-13",
-                       "NearestSearchDepthValue=-2", "FarthestSearchDepthValue=-13",
-                       "--depth-bits", 16, "-o", output)
+    code, _, err = run(
+        "estimate-depth",
+        folder / "depth_cam2.cfg",
+        "--frames",
+        1,
+        "NumberOfDepthSteps=64",
+        "NearestDepthValue=-2",
+        "FarthestDepthValue=-13",
+        "NearestSearchDepthValue=-2",
+        "FarthestSearchDepthValue=-13",
+        "--depth-bits",
+        16,
+        "-o",
+        output,
+    )
     assert code == 0, err
     description = json.loads(Path(f"{output}.json").read_text())
     assert (description["NearestDepthValue"], description["FarthestDepthValue"]) == (-2, -13)
@@ -135,20 +172,32 @@ def test_temporal_enhancement_keeps_the_static_wall(tmp_path):
     names = {"cam2": "v2", "cam1": "v1", "cam3": "v3"}
 
     def view(name, frame):
-        planes = read_frame(SAMPLE / "line" / f"{names[name]}_texture_256x192_yuv420p.yuv",
-                            YuvFormat(*SIZE), frame)
+        planes = read_frame(
+            SAMPLE / "line" / f"{names[name]}_texture_256x192_yuv420p.yuv", YuvFormat(*SIZE), frame
+        )
         return to_working(planes, color_space=1, bits=8)[crop]
 
     def estimate(threshold):
-        params = DersParams(minimum_value_of_disparity_search_range=1,
-                            maximum_value_of_disparity_search_range=12,
-                            minimum_value_of_disparity_range=1, maximum_value_of_disparity_range=12,
-                            temporal_enhancement=1, threshold=threshold)
-        estimator = DersEstimator(params, _crop_camera(cameras["cam2"], 64, 0),
-                                  [Neighbour(_crop_camera(cameras[name], 64, 0), side)
-                                   for name, side in (("cam1", "left"), ("cam3", "right"))])
-        return [estimator.frame(view("cam2", frame), [view("cam1", frame), view("cam3", frame)])
-                for frame in range(2)]
+        params = DersParams(
+            minimum_value_of_disparity_search_range=1,
+            maximum_value_of_disparity_search_range=12,
+            minimum_value_of_disparity_range=1,
+            maximum_value_of_disparity_range=12,
+            temporal_enhancement=1,
+            threshold=threshold,
+        )
+        estimator = DersEstimator(
+            params,
+            _crop_camera(cameras["cam2"], 64, 0),
+            [
+                Neighbour(_crop_camera(cameras[name], 64, 0), side)
+                for name, side in (("cam1", "left"), ("cam3", "right"))
+            ],
+        )
+        return [
+            estimator.frame(view("cam2", frame), [view("cam1", frame), view("cam3", frame)])
+            for frame in range(2)
+        ]
 
     # The renderer is noise-free: static blocks are bit-identical between frames.
     luma = [view("cam2", frame).mean(axis=2) for frame in range(2)]
@@ -167,8 +216,17 @@ def test_temporal_enhancement_keeps_the_static_wall(tmp_path):
 def _arc_estimate(tmp_path, name, *items):
     """1/z of camera 2 of the arc rig estimated over 64 planes, frame 0, with ``items``."""
     output = tmp_path / f"{name}_256x192_gray16le.yuv"
-    code, err = invoke(str(SAMPLE / "arc" / "depth_cam2.cfg"), "--data-dir", SAMPLE / "arc",
-                       "--frames", 1, "NumberOfDepthSteps=64", "-o", output, *items)
+    code, err = invoke(
+        str(SAMPLE / "arc" / "depth_cam2.cfg"),
+        "--data-dir",
+        SAMPLE / "arc",
+        "--frames",
+        1,
+        "NumberOfDepthSteps=64",
+        "-o",
+        output,
+        *items,
+    )
     assert code == 0, err
     values = read_frame(output, YuvFormat(*SIZE, "400", 16))[0]
     return output, 1.0 / depth_to_z(values, ZNEAR, ZFAR, bits=16)
@@ -179,9 +237,17 @@ def test_further_neighbours_are_matched_as_the_configured_ones(tmp_path):
     # same views in the sweep, so the same bytes.
     configured, _ = _arc_estimate(tmp_path, "configured")
     further, _ = _arc_estimate(
-        tmp_path, "further", "LeftCameraName=", "RightCameraName=",
-        "--neighbour", "cam1", "v1_texture_256x192_yuv420p.yuv",
-        "--neighbour", "cam3", "v3_texture_256x192_yuv420p.yuv")
+        tmp_path,
+        "further",
+        "LeftCameraName=",
+        "RightCameraName=",
+        "--neighbour",
+        "cam1",
+        "v1_texture_256x192_yuv420p.yuv",
+        "--neighbour",
+        "cam3",
+        "v3_texture_256x192_yuv420p.yuv",
+    )
     assert further.read_bytes() == configured.read_bytes()
 
 
@@ -189,9 +255,16 @@ def test_four_arc_views_fit_the_true_depth_better_than_two(tmp_path):
     step = (1 / ZNEAR - 1 / ZFAR) / 63
     truth = true_inverse_depth("arc")
     _, two = _arc_estimate(tmp_path, "two")
-    _, four = _arc_estimate(tmp_path, "four",
-                            "--neighbour", "cam0", "v0_texture_256x192_yuv420p.yuv",
-                            "--neighbour", "cam4", "v4_texture_256x192_yuv420p.yuv")
+    _, four = _arc_estimate(
+        tmp_path,
+        "four",
+        "--neighbour",
+        "cam0",
+        "v0_texture_256x192_yuv420p.yuv",
+        "--neighbour",
+        "cam4",
+        "v4_texture_256x192_yuv420p.yuv",
+    )
     within = [(np.abs(inverse - truth) / step <= 1).mean() for inverse in (two, four)]
     # Measured: 0.931 of the pixels within one plane from cam1 and cam3, 0.937 with cam0
     # and cam4 too (sgm): the outer views see parts of the scene the inner ones do not.
@@ -226,15 +299,20 @@ def _fetch_error(z, cameras, views, mask=None):
 def test_kendo_estimated_depth_fetches_view_3_as_well_as_the_shipped_depth(tmp_path):
     folder = shared_data("mpeg", "kendo")
     output = tmp_path / "kendo_D_1.yuv"
-    code, _, err = run("estimate-depth", REPO_ROOT / "configs" / "ders_kendo.cfg",
-                       "--data-dir", folder, "-o", output)
+    code, _, err = run(
+        "estimate-depth",
+        REPO_ROOT / "configs" / "ders_kendo.cfg",
+        "--data-dir",
+        folder,
+        "-o",
+        output,
+    )
     assert code == 0, err
     cameras = read_cameras(folder / "config" / "VSRS" / "cam_param_kendo.cfg")
     pair = (get_camera(cameras, "param_kendo01"), get_camera(cameras, "param_kendo03"))
     fmt = YuvFormat(1024, 768)
-    views = [read_frame(folder / f"kendo_ori_I_{i}.yuv", fmt)[0].astype(np.float32)
-             for i in (1, 3)]
-    znear, zfar = 448.251214, 11206.280350          # vsrs_kendo_ori.cfg, and ders_kendo.cfg
+    views = [read_frame(folder / f"kendo_ori_I_{i}.yuv", fmt)[0].astype(np.float32) for i in (1, 3)]
+    znear, zfar = 448.251214, 11206.280350  # vsrs_kendo_ori.cfg, and ders_kendo.cfg
     shipped = depth_to_z(read_frame(folder / "kendo_ori_D_1.yuv", fmt)[0], znear, zfar)
     estimated = depth_to_z(read_frame(output, fmt)[0], znear, zfar)
     shipped_error, seen = _fetch_error(shipped, pair, views)
@@ -245,37 +323,71 @@ def test_kendo_estimated_depth_fetches_view_3_as_well_as_the_shipped_depth(tmp_p
 
 # --------------------------------------------------------------------------- bad input
 
+
 @pytest.fixture
 def line_copy(tmp_path):
     """The line rig's DERS configuration and the files it names, in tmp_path."""
-    for name in ("depth_cam2.cfg", "cameras.txt", "v1_texture_256x192_yuv420p.yuv",
-                 "v2_texture_256x192_yuv420p.yuv", "v3_texture_256x192_yuv420p.yuv"):
+    for name in (
+        "depth_cam2.cfg",
+        "cameras.txt",
+        "v1_texture_256x192_yuv420p.yuv",
+        "v2_texture_256x192_yuv420p.yuv",
+        "v3_texture_256x192_yuv420p.yuv",
+    ):
         shutil.copy(SAMPLE / "line" / name, tmp_path / name)
     return tmp_path
 
 
-@pytest.mark.parametrize("items, code, fragments", [
-    (["MinimumValueOfDisparitySearchRange=8", "MaximumValueOfDisparitySearchRange=4"], 2,
-     ["MinimumValueOfDisparitySearchRange", "disparity search range [8, 4] is empty"]),
-    (["MinimumValueOfDisparitySearchRange=4", "MaximumValueOfDisparitySearchRange=4"], 2,
-     ["holds a single disparity: nothing to search"]),
-    (["CenterCameraName=cam9"], 2, ["CenterCameraName", "cam9"]),
-    (["LeftCameraName=", "RightCameraName="], 2,
-     ["LeftCameraName", "no neighbour view: give LeftCameraName and/or RightCameraName"]),
-    (["RightCameraName=", "MatchDirection=2"], 2,
-     ["MatchDirection 2 matches the right view, but RightCameraName is not given"]),
-    (["FileRightViewImage=right_128x96_yuv420p.yuv"], 1,
-     ["FileRightViewImage", "the file name says 128x96"]),
-    (["FileCameraParameter="], 2, ["FileCameraParameter", "no camera parameter file"]),
-    (["Method=nonsense"], 2, ["<command line>: Method: 'nonsense' is not one of sgm, bp"]),
-    (["--method", "patchmatch"], 2, ["method 'patchmatch' is for stereo pairs"]),
-    (["-o", "v2_texture_256x192_yuv420p.yuv"], 2, ["the output would overwrite an input"]),
-    (["--neighbour", "cam7", "v1_texture_256x192_yuv420p.yuv"], 2,
-     ["--neighbour cam7: no camera 'cam7'"]),
-    (["--neighbour", "cam1", "missing.yuv"], 2, ["--neighbour cam1: file 'missing.yuv' not found"]),
-    (["--depth-bits", "16", "-o", "depth_256x192_yuv420p.yuv"], 2,
-     ["--depth-bits 16 disagrees with the output name (8 bits)"]),
-])
+@pytest.mark.parametrize(
+    "items, code, fragments",
+    [
+        (
+            ["MinimumValueOfDisparitySearchRange=8", "MaximumValueOfDisparitySearchRange=4"],
+            2,
+            ["MinimumValueOfDisparitySearchRange", "disparity search range [8, 4] is empty"],
+        ),
+        (
+            ["MinimumValueOfDisparitySearchRange=4", "MaximumValueOfDisparitySearchRange=4"],
+            2,
+            ["holds a single disparity: nothing to search"],
+        ),
+        (["CenterCameraName=cam9"], 2, ["CenterCameraName", "cam9"]),
+        (
+            ["LeftCameraName=", "RightCameraName="],
+            2,
+            ["LeftCameraName", "no neighbour view: give LeftCameraName and/or RightCameraName"],
+        ),
+        (
+            ["RightCameraName=", "MatchDirection=2"],
+            2,
+            ["MatchDirection 2 matches the right view, but RightCameraName is not given"],
+        ),
+        (
+            ["FileRightViewImage=right_128x96_yuv420p.yuv"],
+            1,
+            ["FileRightViewImage", "the file name says 128x96"],
+        ),
+        (["FileCameraParameter="], 2, ["FileCameraParameter", "no camera parameter file"]),
+        (["Method=nonsense"], 2, ["<command line>: Method: 'nonsense' is not one of sgm, bp"]),
+        (["--method", "patchmatch"], 2, ["method 'patchmatch' is for stereo pairs"]),
+        (["-o", "v2_texture_256x192_yuv420p.yuv"], 2, ["the output would overwrite an input"]),
+        (
+            ["--neighbour", "cam7", "v1_texture_256x192_yuv420p.yuv"],
+            2,
+            ["--neighbour cam7: no camera 'cam7'"],
+        ),
+        (
+            ["--neighbour", "cam1", "missing.yuv"],
+            2,
+            ["--neighbour cam1: file 'missing.yuv' not found"],
+        ),
+        (
+            ["--depth-bits", "16", "-o", "depth_256x192_yuv420p.yuv"],
+            2,
+            ["--depth-bits 16 disagrees with the output name (8 bits)"],
+        ),
+    ],
+)
 def test_bad_configurations(line_copy, monkeypatch, items, code, fragments):
     (line_copy / "right_128x96_yuv420p.yuv").write_bytes(bytes(128 * 96 * 3 // 2))
     before = sorted(path.name for path in line_copy.iterdir())

@@ -5,11 +5,27 @@ import pytest
 from shared_data import shared_data
 
 from mvtools.geometry import (
-    Camera, DepthCoding, backproject, depth_along_axis, depth_to_z, depth_value_to_disparity,
-    ders_depth_range, disparity_1d, disparity_to_depth_value, disparity_to_z, facing_camera,
+    Camera,
+    DepthCoding,
+    backproject,
+    depth_along_axis,
+    depth_to_z,
+    depth_value_to_disparity,
+    ders_depth_range,
+    disparity_1d,
+    disparity_to_depth_value,
+    disparity_to_z,
+    facing_camera,
     forward_warp,
-    normalized_disparity, pixel_grid, plane_homography, project, reproject, turn_world,
-    z_to_depth, z_to_disparity)
+    normalized_disparity,
+    pixel_grid,
+    plane_homography,
+    project,
+    reproject,
+    turn_world,
+    z_to_depth,
+    z_to_disparity,
+)
 from mvtools.io.cameras import read_cameras
 from mvtools.scene.rigs import axis_angle_rotation
 
@@ -31,6 +47,7 @@ def _random_pixels(rng, count, width=1024, height=768):
 
 # ---------------------------------------------------------------- projection
 
+
 def test_pixel_grid():
     u, v = pixel_grid(4, 3)
     assert u.shape == v.shape == (3, 4)
@@ -42,8 +59,9 @@ def test_pixel_grid():
 
 def test_project_hand_computed(kendo):
     uv, z = project(kendo["param_kendo01"], [[105.0, 50.0, 1000.0], [5.0, 0.0, 2000.0]])
-    np.testing.assert_allclose(uv, [[2241.25607 * 0.1 + 701.5, 2241.25607 * 0.05 + 514.5],
-                                    [701.5, 514.5]], rtol=1e-15)
+    np.testing.assert_allclose(
+        uv, [[2241.25607 * 0.1 + 701.5, 2241.25607 * 0.05 + 514.5], [701.5, 514.5]], rtol=1e-15
+    )
     np.testing.assert_array_equal(z, [1000.0, 2000.0])
 
 
@@ -52,13 +70,19 @@ def test_project_with_axis_flip_rotation():
     # R = diag(1, -1, -1): the camera looks along world -z, image y is world -y.
     uv, z = project(news, [news.t[0] + 100.0, 30.0, -2000.0])
     assert z == 2000.0
-    np.testing.assert_allclose(uv, [2929.4940521927465 * 100 / 2000 + 307.63334410569644,
-                                    2922.7064498725026 * -30 / 2000 + 555.0109690422262],
-                               rtol=1e-15)
+    np.testing.assert_allclose(
+        uv,
+        [
+            2929.4940521927465 * 100 / 2000 + 307.63334410569644,
+            2922.7064498725026 * -30 / 2000 + 555.0109690422262,
+        ],
+        rtol=1e-15,
+    )
 
 
-@pytest.mark.parametrize("name", ["cam_param_lovebird1_original.txt",
-                                  "cam_param_bbb_butterfly2_arc+Znear-far.txt"])
+@pytest.mark.parametrize(
+    "name", ["cam_param_lovebird1_original.txt", "cam_param_bbb_butterfly2_arc+Znear-far.txt"]
+)
 def test_backproject_inverts_project_for_rotated_cameras(name):
     rng = np.random.default_rng(3)
     for camera in list(_cameras(name).values())[::4]:
@@ -88,17 +112,20 @@ def test_backproject_accepts_images_and_validates():
 
 # ---------------------------------------------------------------- depth types
 
+
 def test_depth_types_agree_for_a_camera_at_the_origin_looking_along_world_z(kendo):
     rng = np.random.default_rng(5)
     u, v = _random_pixels(rng, 50)
     z = rng.uniform(400, 12000, 50)
     origin = Camera("o", kendo["param_kendo01"].K)
-    np.testing.assert_array_equal(backproject(origin, u, v, z, depth_type=1),
-                                  backproject(origin, u, v, z, depth_type=0))
+    np.testing.assert_array_equal(
+        backproject(origin, u, v, z, depth_type=1), backproject(origin, u, v, z, depth_type=0)
+    )
     # Kendo cameras only move along x: world z is still the depth.
     camera = kendo["param_kendo03"]
-    np.testing.assert_allclose(backproject(camera, u, v, z, depth_type=1),
-                               backproject(camera, u, v, z), rtol=1e-15)
+    np.testing.assert_allclose(
+        backproject(camera, u, v, z, depth_type=1), backproject(camera, u, v, z), rtol=1e-15
+    )
 
 
 def test_depth_type_1_on_a_rotated_camera():
@@ -111,8 +138,9 @@ def test_depth_type_1_on_a_rotated_camera():
     point = backproject(camera, u, v, world_z, depth_type=1)
     assert abs(point[2] - world_z) < 1e-14
     np.testing.assert_allclose(point, backproject(camera, u, v, depth), rtol=1e-14)
-    np.testing.assert_allclose(depth_along_axis(camera, u, v, world_z, depth_type=1), depth,
-                               rtol=1e-14)
+    np.testing.assert_allclose(
+        depth_along_axis(camera, u, v, world_z, depth_type=1), depth, rtol=1e-14
+    )
     # As depth along the axis the same number is a different point.
     assert np.abs(backproject(camera, u, v, world_z) - point).max() > 0.1
 
@@ -120,21 +148,28 @@ def test_depth_type_1_on_a_rotated_camera():
 def test_depth_type_1_behind_the_camera_as_vsrs_computes_it():
     news = _cameras("cam_param_news.txt")["param_news03"]
     # The camera looks along world -z from z = 0: the plane Z = 3000 is behind it.
-    depth = depth_along_axis(news, np.array([0.0, 500.0]), np.array([0.0, 700.0]), 3000.0,
-                             depth_type=1)
+    depth = depth_along_axis(
+        news, np.array([0.0, 500.0]), np.array([0.0, 700.0]), 3000.0, depth_type=1
+    )
     np.testing.assert_allclose(depth, [-3000.0, -3000.0], rtol=1e-15)
 
 
 # ---------------------------------------------------------------- depth values
 
+
 def test_depth_values_to_z_hand_computed():
-    np.testing.assert_allclose(depth_to_z(np.array([255, 51, 0], np.uint8), 100.0, 200.0),
-                               [100.0, 1 / 0.006, 200.0], rtol=1e-14)
-    np.testing.assert_allclose(depth_to_z([1023, 341, 0], 100.0, 200.0, bits=10),
-                               [100.0, 150.0, 200.0], rtol=1e-14)
+    np.testing.assert_allclose(
+        depth_to_z(np.array([255, 51, 0], np.uint8), 100.0, 200.0),
+        [100.0, 1 / 0.006, 200.0],
+        rtol=1e-14,
+    )
+    np.testing.assert_allclose(
+        depth_to_z([1023, 341, 0], 100.0, 200.0, bits=10), [100.0, 150.0, 200.0], rtol=1e-14
+    )
     # Kendo's range: the value 255 is Znear, 0 is Zfar.
-    np.testing.assert_allclose(depth_to_z([255, 0], 448.251214, 11206.280350),
-                               [448.251214, 11206.280350], rtol=1e-14)
+    np.testing.assert_allclose(
+        depth_to_z([255, 0], 448.251214, 11206.280350), [448.251214, 11206.280350], rtol=1e-14
+    )
     assert depth_to_z(0, 100.0, np.inf) == np.inf
     assert depth_to_z(127.5, 100.0, np.inf) == 200.0
 
@@ -153,15 +188,26 @@ def test_z_to_depth_rounds_and_clips():
 def test_depth_round_trip_over_every_value(bits):
     values = np.arange(2**bits, dtype=np.uint16 if bits > 8 else np.uint8)
     np.testing.assert_array_equal(
-        z_to_depth(depth_to_z(values, 448.251214, 11206.28035, bits=bits), 448.251214,
-                   11206.28035, bits=bits), values)
+        z_to_depth(
+            depth_to_z(values, 448.251214, 11206.28035, bits=bits),
+            448.251214,
+            11206.28035,
+            bits=bits,
+        ),
+        values,
+    )
 
 
 def test_depth_validation():
-    cases = {(200.0, 100.0): "farther than", (-100.0, -50.0): "farther than",
-             (100.0, 100.0): "farther than", (0.0, 100.0): "Znear must be finite and not 0",
-             (100.0, 0.0): "Zfar must not be 0", (-5.0, 100.0): "opposite signs",
-             (5.0, -100.0): "opposite signs"}
+    cases = {
+        (200.0, 100.0): "farther than",
+        (-100.0, -50.0): "farther than",
+        (100.0, 100.0): "farther than",
+        (0.0, 100.0): "Znear must be finite and not 0",
+        (100.0, 0.0): "Zfar must not be 0",
+        (-5.0, 100.0): "opposite signs",
+        (5.0, -100.0): "opposite signs",
+    }
     for (znear, zfar), message in cases.items():
         with pytest.raises(ValueError, match=message):
             depth_to_z([0], znear, zfar)
@@ -179,21 +225,26 @@ def test_negative_range_is_the_positive_one_signed():
     """Poznan's ranges: 1/z = v/255 (1/Znear - 1/Zfar) + 1/Zfar with signed z."""
     z = depth_to_z(np.array([255, 51, 0], np.uint8), -100.0, -200.0)
     np.testing.assert_allclose(z, [-100.0, -1 / 0.006, -200.0], rtol=1e-14)
-    np.testing.assert_array_equal(z_to_depth([-100.0, -1 / 0.006, -200.0, -50.0, -1e6],
-                                             -100.0, -200.0), [255, 51, 0, 255, 0])
+    np.testing.assert_array_equal(
+        z_to_depth([-100.0, -1 / 0.006, -200.0, -50.0, -1e6], -100.0, -200.0), [255, 51, 0, 255, 0]
+    )
     coding = DepthCoding((-100.0, -200.0), 8, depth_type=0)
-    np.testing.assert_allclose(coding.z(np.array([255, 51, 0])), [100.0, 1 / 0.006, 200.0],
-                               rtol=1e-14)
-    np.testing.assert_array_equal(coding.values(np.array([100.0, 1 / 0.006, 200.0, np.inf])),
-                                  [255, 51, 0, 0])
+    np.testing.assert_allclose(
+        coding.z(np.array([255, 51, 0])), [100.0, 1 / 0.006, 200.0], rtol=1e-14
+    )
+    np.testing.assert_array_equal(
+        coding.values(np.array([100.0, 1 / 0.006, 200.0, np.inf])), [255, 51, 0, 0]
+    )
     assert coding.inverse_step == pytest.approx((1 / 100 - 1 / 200) / 255, rel=1e-14)
 
 
 @pytest.mark.parametrize("bits", [8, 16])
 def test_depth_coding_is_depth_to_z_and_back(bits):
     coding = DepthCoding((448.251214, 11206.28035), bits, depth_type=0)
-    values = np.arange(2 ** bits)
-    np.testing.assert_array_equal(coding.z(values), depth_to_z(values, 448.251214, 11206.28035, bits=bits))
+    values = np.arange(2**bits)
+    np.testing.assert_array_equal(
+        coding.z(values), depth_to_z(values, 448.251214, 11206.28035, bits=bits)
+    )
     np.testing.assert_array_equal(coding.values(coding.z(values)), values)
     # Nothing seen (inf) is the farthest value.
     assert coding.values(np.array([np.inf]))[0] == 0
@@ -233,16 +284,20 @@ def test_facing_camera_turns_cameras_that_look_away_from_the_range():
     news = Camera("n", K=camera.K, R=np.diag([1.0, -1.0, -1.0]))
     assert facing_camera(news, (-2715.18, -9050.61), depth_type=1) is news
     np.testing.assert_array_equal(
-        facing_camera(news, (3393.98, 7542.17), depth_type=1).R, np.diag([-1.0, 1.0, 1.0]))
+        facing_camera(news, (3393.98, 7542.17), depth_type=1).R, np.diag([-1.0, 1.0, 1.0])
+    )
 
 
 # ---------------------------------------------------------------- disparity
 
+
 def test_disparity_and_z():
-    np.testing.assert_array_equal(disparity_to_z([10.0, 20.0, 0.0], 1000.0, 0.5),
-                                  [50.0, 25.0, np.inf])
-    np.testing.assert_array_equal(z_to_disparity([50.0, 25.0, np.inf], 1000.0, 0.5),
-                                  [10.0, 20.0, 0.0])
+    np.testing.assert_array_equal(
+        disparity_to_z([10.0, 20.0, 0.0], 1000.0, 0.5), [50.0, 25.0, np.inf]
+    )
+    np.testing.assert_array_equal(
+        z_to_disparity([50.0, 25.0, np.inf], 1000.0, 0.5), [10.0, 20.0, 0.0]
+    )
     with pytest.raises(ValueError):
         disparity_to_z([-1.0], 1000.0, 0.5)
     with pytest.raises(ValueError):
@@ -250,16 +305,19 @@ def test_disparity_and_z():
 
 
 def test_normalized_disparity_and_ders_labels():
-    np.testing.assert_array_equal(normalized_disparity([10.0, 35.0, 60.0], 10.0, 60.0),
-                                  [0.0, 127.5, 255.0])
+    np.testing.assert_array_equal(
+        normalized_disparity([10.0, 35.0, 60.0], 10.0, 60.0), [0.0, 127.5, 255.0]
+    )
     labels = disparity_to_depth_value([10.0, 35.0, 60.0, 70.0, 0.0], 10.0, 60.0)
     assert labels.dtype == np.uint8
     np.testing.assert_array_equal(labels, [0, 128, 255, 255, 0])
-    np.testing.assert_allclose(depth_value_to_disparity([0, 51, 255], 10.0, 60.0),
-                               [10.0, 20.0, 60.0], rtol=1e-15)
+    np.testing.assert_allclose(
+        depth_value_to_disparity([0, 51, 255], 10.0, 60.0), [10.0, 20.0, 60.0], rtol=1e-15
+    )
     # A decreasing mapping, as the inverse depths of negative ranges make.
-    np.testing.assert_array_equal(normalized_disparity([60.0, 35.0, 10.0], 60.0, 10.0),
-                                  [0.0, 127.5, 255.0])
+    np.testing.assert_array_equal(
+        normalized_disparity([60.0, 35.0, 10.0], 60.0, 10.0), [0.0, 127.5, 255.0]
+    )
     with pytest.raises(ValueError, match="dmin != dmax"):
         normalized_disparity([1.0], 5.0, 5.0)
 
@@ -270,8 +328,9 @@ def test_ders_depth_range_matches_the_depth_value_formula():
     assert ders_depth_range(1000.0, 10.0, 0.0, 40.0) == (250.0, np.inf)
     # Writing disparity d as a DERS label equals writing z = f B / (d + off) as depth.
     d = np.random.default_rng(2).uniform(5.0, 45.0, 1000)
-    np.testing.assert_array_equal(disparity_to_depth_value(d, 5.0, 45.0),
-                                  z_to_depth(1000.0 * 10.0 / (d + 5.0), znear, zfar))
+    np.testing.assert_array_equal(
+        disparity_to_depth_value(d, 5.0, 45.0), z_to_depth(1000.0 * 10.0 / (d + 5.0), znear, zfar)
+    )
     with pytest.raises(ValueError):
         ders_depth_range(1000.0, 10.0, -6.0, 45.0, offset=5.0)
 
@@ -279,20 +338,28 @@ def test_ders_depth_range_matches_the_depth_value_formula():
 def test_disparity_1d_on_kendo_agrees_with_3d_reprojection(kendo):
     left, right = kendo["param_kendo01"], kendo["param_kendo03"]
     z = np.array([500.0, 1000.0, 8000.0])
-    d = disparity_1d(z, focal=left.fx, tx_ref=left.t[0], tx_virtual=right.t[0],
-                     cx_ref=left.cx, cx_virtual=right.cx)
+    d = disparity_1d(
+        z,
+        focal=left.fx,
+        tx_ref=left.t[0],
+        tx_virtual=right.t[0],
+        cx_ref=left.cx,
+        cx_virtual=right.cx,
+    )
     np.testing.assert_allclose(d, 2241.25607 * 10 / z, rtol=1e-15)
     u2, v2, z2 = reproject(left, right, 500.0, 300.0, z)
     np.testing.assert_allclose(u2, 500.0 - d, rtol=1e-14)
     np.testing.assert_allclose(v2, 300.0, rtol=1e-14)
     np.testing.assert_allclose(z2, z, rtol=1e-15)
     # Principal points enter with the opposite sign.
-    shifted = disparity_1d(1000.0, focal=1000.0, tx_ref=0.0, tx_virtual=1.0, cx_ref=500.0,
-                           cx_virtual=510.0)
+    shifted = disparity_1d(
+        1000.0, focal=1000.0, tx_ref=0.0, tx_virtual=1.0, cx_ref=500.0, cx_virtual=510.0
+    )
     assert shifted == 1.0 - 10.0
 
 
 # ---------------------------------------------------------------- reprojection, homography
+
 
 def test_reproject_equals_backproject_then_project():
     cameras = list(_cameras("cam_param_lovebird1_original.txt").values())
@@ -312,19 +379,24 @@ def _apply(homography, u, v):
     return mapped[0] / mapped[2], mapped[1] / mapped[2]
 
 
-@pytest.mark.parametrize("name, src, dst, z, depth_type", [
-    ("cam_param_lovebird1_original.txt", "param_loveb1_001", "param_loveb1_006", 3000.0, 0),
-    ("cam_param_bbb_butterfly2_arc+Znear-far.txt", "param_ptm05", "param_ptm20", 2.0, 0),
-    ("cam_param_bbb_butterfly2_arc+Znear-far.txt", "param_ptm05", "param_ptm20", 0.3, 1),
-    ("cam_param_news.txt", "param_news03", "param_news06", 4000.0, 1),
-])
+@pytest.mark.parametrize(
+    "name, src, dst, z, depth_type",
+    [
+        ("cam_param_lovebird1_original.txt", "param_loveb1_001", "param_loveb1_006", 3000.0, 0),
+        ("cam_param_bbb_butterfly2_arc+Znear-far.txt", "param_ptm05", "param_ptm20", 2.0, 0),
+        ("cam_param_bbb_butterfly2_arc+Znear-far.txt", "param_ptm05", "param_ptm20", 0.3, 1),
+        ("cam_param_news.txt", "param_news03", "param_news06", 4000.0, 1),
+    ],
+)
 def test_plane_homography_agrees_with_reproject(name, src, dst, z, depth_type):
     cameras = _cameras(name)
     u, v = _random_pixels(np.random.default_rng(4), 100)
-    expected_u, expected_v, _ = reproject(cameras[src], cameras[dst], u, v, z,
-                                          depth_type=depth_type)
-    mapped_u, mapped_v = _apply(plane_homography(cameras[src], cameras[dst], z,
-                                                 depth_type=depth_type), u, v)
+    expected_u, expected_v, _ = reproject(
+        cameras[src], cameras[dst], u, v, z, depth_type=depth_type
+    )
+    mapped_u, mapped_v = _apply(
+        plane_homography(cameras[src], cameras[dst], z, depth_type=depth_type), u, v
+    )
     np.testing.assert_allclose(mapped_u, expected_u, rtol=0, atol=1e-8)
     np.testing.assert_allclose(mapped_v, expected_v, rtol=0, atol=1e-8)
 
@@ -337,8 +409,9 @@ def test_plane_homography_vectorised_and_validated(kendo):
     for homography, z in zip(stacked, planes):
         np.testing.assert_array_equal(homography, plane_homography(left, right, z))
         # Rectified pair: a pure horizontal shift by the disparity.
-        np.testing.assert_allclose(homography, [[1, 0, -2241.25607 * 10 / z], [0, 1, 0],
-                                                [0, 0, 1]], atol=1e-12)
+        np.testing.assert_allclose(
+            homography, [[1, 0, -2241.25607 * 10 / z], [0, 1, 0], [0, 0, 1]], atol=1e-12
+        )
     with pytest.raises(ValueError):
         plane_homography(left, right, 0.0)
     with pytest.raises(ValueError, match="centre"):
@@ -346,6 +419,7 @@ def test_plane_homography_vectorised_and_validated(kendo):
 
 
 # ---------------------------------------------------------------- forward warping
+
 
 def _rig(shift):
     """A source camera at the origin and a target moved by ``shift`` along x, f = 100."""
@@ -388,7 +462,7 @@ def test_forward_warp_ties_go_to_the_first_source_pixel():
     dst = Camera("dst", [[50.0, 0, 0], [0, 100.0, 0], [0, 0, 1]])
     values = np.arange(1, 7, dtype=np.uint8)[None].repeat(2, axis=0)
     values = np.stack([values, 10 * values], axis=-1)  # (H, W, C)
-    warped, warped_z, filled = forward_warp(values, np.full((2, 6), 7.0), src, dst)
+    warped, _warped_z, filled = forward_warp(values, np.full((2, 6), 7.0), src, dst)
     # u2 = u / 2 rounded half up: 0->0, 1->1, 2->1, 3->2, 4->2, 5->3.
     np.testing.assert_array_equal(warped[0, :4, 0], [1, 2, 4, 6])
     np.testing.assert_array_equal(warped[1, :4, 1], [10, 20, 40, 60])
@@ -417,8 +491,12 @@ def test_forward_warp_drops_points_behind_the_target_and_validates():
 
 def test_turning_the_world_changes_no_picture():
     rotation = axis_angle_rotation((0.3, -1.0, 0.2), 17.0)
-    camera = Camera("c", K=[[500.0, 0, 320], [0, 505.0, 240], [0, 0, 1]],
-                    R=axis_angle_rotation((1.0, 0.5, 0.0), 8.0), t=[0.4, -0.1, 2.0])
+    camera = Camera(
+        "c",
+        K=[[500.0, 0, 320], [0, 505.0, 240], [0, 0, 1]],
+        R=axis_angle_rotation((1.0, 0.5, 0.0), 8.0),
+        t=[0.4, -0.1, 2.0],
+    )
     points = np.random.default_rng(1).uniform(-2, 2, (20, 3)) + [0.0, 0.0, 8.0]
     (turned,) = turn_world([camera], rotation)
     uv, z = project(camera, points)

@@ -17,13 +17,19 @@ from program_runner import invoke
 
 from mvtools.cli.main import cli
 
-CASES = [case for module in pkgutil.iter_modules(hostile.__path__)
-         for case in importlib.import_module(f"hostile.{module.name}").CASES]
+CASES = [
+    case
+    for module in pkgutil.iter_modules(hostile.__path__)
+    for case in importlib.import_module(f"hostile.{module.name}").CASES
+]
 
 
 def _snapshot(folder):
-    return {path.relative_to(folder).as_posix(): hashlib.sha256(path.read_bytes()).hexdigest()
-            for path in folder.rglob("*") if path.is_file()}
+    return {
+        path.relative_to(folder).as_posix(): hashlib.sha256(path.read_bytes()).hexdigest()
+        for path in folder.rglob("*")
+        if path.is_file()
+    }
 
 
 @pytest.mark.parametrize("case", CASES, ids=[case.name for case in CASES])

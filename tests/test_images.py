@@ -10,8 +10,8 @@ from shared_data import shared_data
 from mvtools.errors import DataError, UsageError
 from mvtools.io.images import read_image, read_pfm, write_image, write_pfm
 
-
 # ----------------------------------------------------------------------------- PFM
+
 
 def test_read_hand_made_grey_pfm_rows_bottom_to_top(tmp_path):
     # Stored rows: bottom row (3, 4) first, then the top row (1, inf); little-endian.
@@ -64,6 +64,7 @@ def test_damaged_pfm(tmp_path):
 
 
 # ----------------------------------------------------------------------------- OpenCV formats
+
 
 def test_png_16_bit_round_trip(tmp_path):
     rng = np.random.default_rng(3)
@@ -132,7 +133,7 @@ def test_write_image_refuses_what_the_format_cannot_hold(tmp_path):
         write_image(tmp_path / "a.png", np.zeros((2, 2), np.float32))
     with pytest.raises(ValueError, match="shape"):
         write_image(tmp_path / "a.png", np.zeros((2, 2, 4), np.uint8))
-    with pytest.raises(UsageError, match="'.xyz'"):
+    with pytest.raises(UsageError, match=r"'\.xyz'"):
         write_image(tmp_path / "a.xyz", np.zeros((2, 2), np.uint8))
     assert list(tmp_path.iterdir()) == []
 

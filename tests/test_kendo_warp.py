@@ -33,7 +33,9 @@ def kendo():
         "right": get_camera(cameras, config["RightCameraName"].value),
         "znear": float(config["LeftNearestDepthValue"].value),
         "zfar": float(config["LeftFarthestDepthValue"].value),
-        "texture": luma("I_1"), "depth": luma("D_1"), "target": luma("I_3"),
+        "texture": luma("I_1"),
+        "depth": luma("D_1"),
+        "target": luma("I_3"),
     }
 
 
@@ -66,6 +68,7 @@ def test_wrong_conventions_are_detected(kendo):
     mirrored = Camera("mirrored", right.K, right.R, 2 * kendo["left"].t - right.t)
     assert np.median(_luma_error(kendo, z, mirrored)) > 8
     # Depth read with Znear and Zfar swapped (0 = near): mean 10.7 against 3.45.
-    swapped = 1.0 / (kendo["depth"] / 255.0 * (1 / kendo["zfar"] - 1 / kendo["znear"])
-                     + 1 / kendo["znear"])
+    swapped = 1.0 / (
+        kendo["depth"] / 255.0 * (1 / kendo["zfar"] - 1 / kendo["znear"]) + 1 / kendo["znear"]
+    )
     assert _luma_error(kendo, swapped, right).mean() > 8

@@ -26,14 +26,18 @@ from pathlib import Path
 
 import pytest
 
-pytestmark = pytest.mark.slow     # about 30 s: `make test-fast` leaves these out
+pytestmark = pytest.mark.slow  # about 30 s: `make test-fast` leaves these out
 
 REPO = Path(__file__).resolve().parent.parent
 LINE = REPO / "sample_data" / "line"
-FRAME_BYTES = 256 * 192 * 3 // 2      # one 256x192 YUV 4:2:0 frame
-VIDEOS = ("v1_texture_256x192_yuv420p.yuv", "v2_texture_256x192_yuv420p.yuv",
-          "v3_texture_256x192_yuv420p.yuv", "v1_depth_256x192_yuv420p.yuv",
-          "v3_depth_256x192_yuv420p.yuv")
+FRAME_BYTES = 256 * 192 * 3 // 2  # one 256x192 YUV 4:2:0 frame
+VIDEOS = (
+    "v1_texture_256x192_yuv420p.yuv",
+    "v2_texture_256x192_yuv420p.yuv",
+    "v3_texture_256x192_yuv420p.yuv",
+    "v1_depth_256x192_yuv420p.yuv",
+    "v3_depth_256x192_yuv420p.yuv",
+)
 
 #: Seconds from the output's completion (its rename into place) to the process's exit.
 #: Measured under two busy processes on 2 cores: 0.6 to 2.2 s, the interpreter's own
@@ -48,10 +52,18 @@ MEMORY_MARGIN_MIB = 8.0
 
 #: (program, arguments, output files, frames of the short run, of the long run).
 PROGRAMS = {
-    "synthesize": (["synthesize", "synthesize_cam2.cfg", "OutputVirtualViewImageName=out.yuv"],
-                   ["out.yuv"], 3, 60),
-    "estimate-depth": (["estimate-depth", "depth_cam2.cfg", "FileOutputDepthMapImage=out.yuv"],
-                       ["out.yuv", "out.yuv.json"], 2, 18),
+    "synthesize": (
+        ["synthesize", "synthesize_cam2.cfg", "OutputVirtualViewImageName=out.yuv"],
+        ["out.yuv"],
+        3,
+        60,
+    ),
+    "estimate-depth": (
+        ["estimate-depth", "depth_cam2.cfg", "FileOutputDepthMapImage=out.yuv"],
+        ["out.yuv", "out.yuv.json"],
+        2,
+        18,
+    ),
 }
 
 
@@ -75,19 +87,24 @@ def _long_inputs(folder: Path, frames: int) -> None:
         (folder / name).write_bytes((LINE / name).read_bytes())
     for name in VIDEOS:
         data = (LINE / name).read_bytes()
-        clip = [data[i:i + FRAME_BYTES] for i in range(0, len(data), FRAME_BYTES)]
+        clip = [data[i : i + FRAME_BYTES] for i in range(0, len(data), FRAME_BYTES)]
         clip += clip[-2:0:-1]
         (folder / name).write_bytes(b"".join(clip[i % len(clip)] for i in range(frames)))
 
 
-def _run(args: list[str], folder: Path, outputs: list[str], *,
-         timeout: float = 180.0) -> tuple[float, float]:
+def _run(
+    args: list[str], folder: Path, outputs: list[str], *, timeout: float = 180.0
+) -> tuple[float, float]:
     """Run ``mvtools ARGS`` in ``folder`` to its end: (seconds from the moment every
     output exists to the exit, peak RSS in MiB)."""
     log = folder / "stderr.txt"
     with open(log, "w") as stderr:
-        process = subprocess.Popen([sys.executable, "-m", "mvtools", *args], cwd=folder,
-                                   stdout=subprocess.DEVNULL, stderr=stderr)
+        process = subprocess.Popen(
+            [sys.executable, "-m", "mvtools", *args],
+            cwd=folder,
+            stdout=subprocess.DEVNULL,
+            stderr=stderr,
+        )
     start = time.monotonic()
     complete = None
     while True:
@@ -100,14 +117,16 @@ def _run(args: list[str], folder: Path, outputs: list[str], *,
         if now - start > timeout:
             process.kill()
             process.wait()
-            pytest.fail(f"mvtools {' '.join(args)} still running after {timeout:g} s "
-                        f"(outputs complete: {complete is not None})")
+            pytest.fail(
+                f"mvtools {' '.join(args)} still running after {timeout:g} s "
+                f"(outputs complete: {complete is not None})"
+            )
         time.sleep(0.01)
-    process.returncode = os.waitstatus_to_exitcode(status)    # reaped here, not by Popen
+    process.returncode = os.waitstatus_to_exitcode(status)  # reaped here, not by Popen
     assert process.returncode == 0, log.read_text()
     assert complete is not None, f"no {outputs} after a successful run"
     # ru_maxrss: KiB on Linux, bytes on macOS
-    peak = usage.ru_maxrss / (2 ** 20 if sys.platform == "darwin" else 2 ** 10)
+    peak = usage.ru_maxrss / (2**20 if sys.platform == "darwin" else 2**10)
     for name in outputs:
         (folder / name).unlink()
     return now - complete, peak
@@ -115,18 +134,23 @@ def _run(args: list[str], folder: Path, outputs: list[str], *,
 
 @pytest.mark.parametrize("program", sorted(PROGRAMS))
 def test_a_long_run_on_a_busy_machine_exits_at_once_and_its_memory_is_flat(
-        tmp_path, busy_machine, program):
+    tmp_path, busy_machine, program
+):
     args, outputs, short, long = PROGRAMS[program]
     _long_inputs(tmp_path, long)
-    runs = {frames: _run([*args, f"TotalNumberOfFrames={frames}", "-q"], tmp_path, outputs)
-            for frames in (short, long)}
+    runs = {
+        frames: _run([*args, f"TotalNumberOfFrames={frames}", "-q"], tmp_path, outputs)
+        for frames in (short, long)
+    }
     if runs[short][1] - runs[long][1] > MEMORY_MARGIN_MIB:
         # The first run compiled the kernels (a cold numba cache), and the compiler's
         # memory counted in its peak: measured again, from the cache.
         runs[short] = _run([*args, f"TotalNumberOfFrames={short}", "-q"], tmp_path, outputs)
     (delay_short, peak_short), (delay_long, peak_long) = runs[short], runs[long]
-    figures = (f"{program}: exit {delay_short:.2f} s / {delay_long:.2f} s after the output, "
-               f"peak RSS {peak_short:.1f} / {peak_long:.1f} MiB at {short} / {long} frames")
+    figures = (
+        f"{program}: exit {delay_short:.2f} s / {delay_long:.2f} s after the output, "
+        f"peak RSS {peak_short:.1f} / {peak_long:.1f} MiB at {short} / {long} frames"
+    )
     assert max(delay_short, delay_long) < EXIT_SECONDS, figures
     assert peak_long - peak_short < MEMORY_MARGIN_MIB, figures
 
@@ -135,12 +159,22 @@ def _fresh_interpreters(*codes: str) -> list[str]:
     """stdout of each of ``codes``, run at once, each in a new interpreter whose
     environment leaves numba's threading choices to mvtools (the caller's
     NUMBA_THREADING_LAYER*, OMP_WAIT_POLICY and GOMP_SPINCOUNT removed)."""
-    environment = {name: value for name, value in os.environ.items()
-                   if not name.startswith("NUMBA_THREADING_LAYER")
-                   and name not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")}
-    processes = [subprocess.Popen([sys.executable, "-c", code], env=environment, text=True,
-                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-                 for code in codes]
+    environment = {
+        name: value
+        for name, value in os.environ.items()
+        if not name.startswith("NUMBA_THREADING_LAYER")
+        and name not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")
+    }
+    processes = [
+        subprocess.Popen(
+            [sys.executable, "-c", code],
+            env=environment,
+            text=True,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+        )
+        for code in codes
+    ]
     outputs = []
     for process in processes:
         stdout, stderr = process.communicate(timeout=120)
@@ -177,8 +211,9 @@ def test_numba_threading_layer_is_not_tbb_when_libtbb_is_installed():
             print("no-tbb")
     """)
     orders = ("import mvtools\n", "import numba\nimport mvtools\n")
-    answers = [answer.split() for answer in _fresh_interpreters(*(imports + code
-                                                                  for imports in orders))]
+    answers = [
+        answer.split() for answer in _fresh_interpreters(*(imports + code for imports in orders))
+    ]
     if all(tbb == "no-tbb" for _, tbb in answers):
         pytest.skip("numba's TBB layer does not load here (no libtbb12): nothing to avoid")
     assert {layer for layer, _ in answers} <= {"omp", "workqueue"}, answers
@@ -189,7 +224,10 @@ def test_numba_threads_leave_the_cores_between_parallel_kernels(busy_machine):
     # should use the CPU for their share of the kernels only. libgomp's default keeps
     # an idle thread spinning some milliseconds: it burnt as much CPU as the main
     # thread (and made two runs at once 30 % slower); sleeping threads burn 4 to 15 %.
-    code = "import mvtools\n" + _KERNEL + textwrap.dedent("""
+    code = (
+        "import mvtools\n"
+        + _KERNEL
+        + textwrap.dedent("""
         import time
         serial = np.random.default_rng(0).random(60_000)
         main, process = time.thread_time(), time.process_time()
@@ -199,6 +237,8 @@ def test_numba_threads_leave_the_cores_between_parallel_kernels(busy_machine):
         main, process = time.thread_time() - main, time.process_time() - process
         print(threading_layer(), main, process - main)
     """)
+    )
     layer, main, workers = _fresh_interpreters(code)[0].split()
-    assert float(workers) < 0.5 * float(main), (f"{layer}: worker threads {workers} s of CPU, "
-                                                f"main thread {main} s")
+    assert float(workers) < 0.5 * float(main), (
+        f"{layer}: worker threads {workers} s of CPU, main thread {main} s"
+    )

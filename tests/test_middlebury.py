@@ -7,13 +7,17 @@ import math
 import cv2
 import numpy as np
 import pytest
+from shared_data import shared_data
 
+from mvtools.datasets import (
+    load_middlebury_ground_truth,
+    middlebury_pair,
+    opencv_sgbm_reference,
+    score_middlebury,
+)
 from mvtools.errors import DataError, UsageError
-from mvtools.datasets import (load_middlebury_ground_truth, middlebury_pair,
-                              opencv_sgbm_reference, score_middlebury)
 from mvtools.io.middlebury import MIDDLEBURY_SETS, read_ground_truth, read_nonoccluded_mask
 from mvtools.metrics import error_histogram, nonoccluded_from_other_view, score_disparity
-from shared_data import shared_data
 
 
 @pytest.fixture(scope="module")
@@ -34,7 +38,7 @@ def test_read_ground_truth_divides_by_scale_and_marks_zero_unknown(tmp_path):
 
 
 def test_read_ground_truth_errors(tmp_path):
-    with pytest.raises(UsageError, match="no such (file|image)"):
+    with pytest.raises(UsageError, match=r"no such (file|image)"):
         read_ground_truth(tmp_path / "missing.png", scale=4)
     colour = tmp_path / "colour.png"
     cv2.imwrite(str(colour), np.zeros((2, 3, 3), np.uint8))
@@ -51,8 +55,13 @@ def test_unknown_set_name_lists_the_known_ones(root):
 
 def test_set_table_files_exist(root):
     for entry in MIDDLEBURY_SETS.values():
-        for relative in (entry.left, entry.right, entry.ground_truth, entry.nonoccluded_mask,
-                         entry.right_ground_truth):
+        for relative in (
+            entry.left,
+            entry.right,
+            entry.ground_truth,
+            entry.nonoccluded_mask,
+            entry.right_ground_truth,
+        ):
             assert relative is None or (root / relative).is_file(), relative
 
 
@@ -72,16 +81,19 @@ def test_tsukuba_known_pixels_are_the_interior_without_the_18_pixel_border(root)
 # the band seen by one camera only (left image border plus the disocclusions at
 # every depth step) is a tenth to a quarter of the image. Structured-light ground
 # truth leaves only a few percent of pixels unknown (Tsukuba: its 18-pixel border).
-@pytest.mark.parametrize("name, known_range, nonocc_range", [
-    ("tsukuba", (0.79, 0.80), None),         # 252 * 348 / (288 * 384) = 0.793
-    ("venus", (1.0, 1.0), None),             # measured: every pixel known
-    ("teddy", (0.97, 0.99), (0.85, 0.90)),   # measured 0.980, 0.875
-    ("cones", (0.95, 0.98), (0.83, 0.88)),   # measured 0.968, 0.853
-    ("Art", (0.99, 1.0), (0.73, 0.79)),      # measured 0.999, 0.761
-    ("Dolls", (0.99, 1.0), (0.82, 0.88)),    # measured 0.996, 0.854
-    ("Moebius", (0.99, 1.0), (0.83, 0.89)),  # measured 0.995, 0.860
-    ("aloe", (0.95, 0.98), None),            # measured 0.965
-])
+@pytest.mark.parametrize(
+    "name, known_range, nonocc_range",
+    [
+        ("tsukuba", (0.79, 0.80), None),  # 252 * 348 / (288 * 384) = 0.793
+        ("venus", (1.0, 1.0), None),  # measured: every pixel known
+        ("teddy", (0.97, 0.99), (0.85, 0.90)),  # measured 0.980, 0.875
+        ("cones", (0.95, 0.98), (0.83, 0.88)),  # measured 0.968, 0.853
+        ("Art", (0.99, 1.0), (0.73, 0.79)),  # measured 0.999, 0.761
+        ("Dolls", (0.99, 1.0), (0.82, 0.88)),  # measured 0.996, 0.854
+        ("Moebius", (0.99, 1.0), (0.83, 0.89)),  # measured 0.995, 0.860
+        ("aloe", (0.95, 0.98), None),  # measured 0.965
+    ],
+)
 def test_known_and_nonoccluded_fractions_are_sane(root, name, known_range, nonocc_range):
     truth = load_middlebury_ground_truth(root, name)
     assert known_range[0] <= truth.known.mean() <= known_range[1]
@@ -110,8 +122,9 @@ def test_other_view_rule_reproduces_the_published_2003_masks(root, scene):
 @pytest.mark.parametrize("name", list(MIDDLEBURY_SETS))
 def test_ground_truth_scored_against_itself_is_perfect(root, name):
     truth = load_middlebury_ground_truth(root, name)
-    score = score_disparity(truth.disparity, truth.disparity, known=truth.known,
-                            nonoccluded=truth.nonoccluded)
+    score = score_disparity(
+        truth.disparity, truth.disparity, known=truth.known, nonoccluded=truth.nonoccluded
+    )
     assert score.bad_all == {1.0: 0.0, 2.0: 0.0}
     assert score.bad_nonocc == (None if truth.nonoccluded is None else {1.0: 0.0, 2.0: 0.0})
     assert score.mean_abs_error == 0.0 and score.rms_error == 0.0
@@ -120,8 +133,9 @@ def test_ground_truth_scored_against_itself_is_perfect(root, name):
 
 def test_error_of_one_and_a_half_pixels_is_bad_at_1_not_at_2(root):
     truth = load_middlebury_ground_truth(root, "teddy")
-    score = score_disparity(truth.disparity + 1.5, truth.disparity, known=truth.known,
-                            nonoccluded=truth.nonoccluded)
+    score = score_disparity(
+        truth.disparity + 1.5, truth.disparity, known=truth.known, nonoccluded=truth.nonoccluded
+    )
     assert score.bad_all == {1.0: 100.0, 2.0: 0.0}
     assert score.bad_nonocc == {1.0: 100.0, 2.0: 0.0}
     assert score.mean_abs_error == pytest.approx(1.5)
@@ -130,12 +144,9 @@ def test_error_of_one_and_a_half_pixels_is_bad_at_1_not_at_2(root):
 
 
 def test_scores_by_hand():
-    truth = np.array([[0.0, 10.0, 10.0, 20.0],
-                      [5.0, 5.0, 30.0, 30.0]])
-    estimate = np.array([[99.0, 11.0, 12.5, 20.0],
-                         [5.5, np.nan, 27.0, 30.0]])
-    nonocc = np.array([[True, True, True, False],
-                       [True, True, False, True]])
+    truth = np.array([[0.0, 10.0, 10.0, 20.0], [5.0, 5.0, 30.0, 30.0]])
+    estimate = np.array([[99.0, 11.0, 12.5, 20.0], [5.5, np.nan, 27.0, 30.0]])
+    nonocc = np.array([[True, True, True, False], [True, True, False, True]])
     score = score_disparity(estimate, truth, nonoccluded=nonocc)
     # known: the 7 non-zero truths; errors 1, 2.5, 0, 0.5, invalid, 3, 0
     # > 1: 2.5, invalid, 3 -> 3 of 7; > 2: the same 3 (exactly 1 is not > 1)
@@ -150,10 +161,8 @@ def test_scores_by_hand():
 
 def test_error_histogram_by_hand():
     # the case above: known errors 1, 2.5, 0, 0.5, invalid, 3, 0
-    truth = np.array([[0.0, 10.0, 10.0, 20.0],
-                      [5.0, 5.0, 30.0, 30.0]])
-    estimate = np.array([[99.0, 11.0, 12.5, 20.0],
-                         [5.5, np.nan, 27.0, 30.0]])
+    truth = np.array([[0.0, 10.0, 10.0, 20.0], [5.0, 5.0, 30.0, 30.0]])
+    estimate = np.array([[99.0, 11.0, 12.5, 20.0], [5.5, np.nan, 27.0, 30.0]])
     # bins [0, 0.25) [0.25, 0.5) [0.5, 1) [1, 2) [2, 4) [4, 8) [8, inf): the invalid one last
     assert error_histogram(estimate, truth).tolist() == [2, 0, 1, 1, 2, 0, 1]
     assert error_histogram(estimate, truth, edges=(0, 1, 3)).tolist() == [3, 4]
@@ -166,24 +175,26 @@ def test_nonoccluded_from_other_view_by_hand():
     # round(x - d).
     left = np.array([[2.0, 2.0, 2.0, 2.0, 4.0, 4.0, 2.0, 0.0]])
     right = np.array([[2.0, 2.0, 4.0, 2.5, 0.0, 2.0, 2.0, 2.0]])
-    expected = [[
-        False,   # x=0: 0 - 2 < 0, outside the right image
-        False,   # x=1: -1, outside
-        True,    # x=2: right[0] = 2, agrees
-        True,    # x=3: right[1] = 2
-        False,   # x=4: d=4 -> right[0] = 2, disagrees by 2 (> 1)
-        False,   # x=5: d=4 -> right[1] = 2, disagrees
-        False,   # x=6: right[4] = 0, unknown there: occluded
-        False,   # x=7: unknown in the left view
-    ]]
+    expected = [
+        [
+            False,  # x=0: 0 - 2 < 0, outside the right image
+            False,  # x=1: -1, outside
+            True,  # x=2: right[0] = 2, agrees
+            True,  # x=3: right[1] = 2
+            False,  # x=4: d=4 -> right[0] = 2, disagrees by 2 (> 1)
+            False,  # x=5: d=4 -> right[1] = 2, disagrees
+            False,  # x=6: right[4] = 0, unknown there: occluded
+            False,  # x=7: unknown in the left view
+        ]
+    ]
     assert nonoccluded_from_other_view(left, right).tolist() == expected
     # |2.5 - 2| = 0.5 agrees within 1; with tolerance 0.25 it does not
-    left2 = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0]])   # x=5 -> right[3] = 2.5
+    left2 = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0]])  # x=5 -> right[3] = 2.5
     assert nonoccluded_from_other_view(left2, right)[0, 5]
     assert not nonoccluded_from_other_view(left2, right, tolerance=0.25)[0, 5]
     # fractional disparities round to the nearest column, halves up: 5 - 1.5 = 3.5 -> 4
     left3 = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 1.5, 0.0, 0.0]])
-    assert not nonoccluded_from_other_view(left3, right)[0, 5]   # right[4] unknown
+    assert not nonoccluded_from_other_view(left3, right)[0, 5]  # right[4] unknown
 
 
 # ---------------------------------------------------------------------------- protocol check
@@ -195,8 +206,9 @@ def test_nonoccluded_from_other_view_by_hand():
 # OpenCV 5.0) with P1 = 8*3*5^2, P2 = 32*3*5^2, minDisparity 0, the protocol's
 # number of disparities, all other options at OpenCV's defaults, disparity = output
 # / 16, and invalid pixels (< 0) filled from the background along their row.
-@pytest.mark.parametrize("name, reported", [
-    ("tsukuba", 5.5), ("venus", 2.9), ("teddy", 15.2), ("cones", 7.2)])
+@pytest.mark.parametrize(
+    "name, reported", [("tsukuba", 5.5), ("venus", 2.9), ("teddy", 15.2), ("cones", 7.2)]
+)
 def test_opencv_sgbm_scores_as_reported(root, name, reported):
     left, right = middlebury_pair(root, name)
     disparity = opencv_sgbm_reference(left, right, disparities=MIDDLEBURY_SETS[name].disparities)

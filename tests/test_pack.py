@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from program_runner import assert_one_line_error, invoke
 
 from mvtools.cli import pack
 from mvtools.errors import ConfigError
@@ -16,7 +17,6 @@ from mvtools.io.sidecar import read_sidecar
 from mvtools.io.yuv import YuvFormat, open_video, write_video
 from mvtools.metrics import psnr
 from mvtools.pack import pack_frame, plan_layout, unpack_frame
-from program_runner import assert_one_line_error, invoke
 
 LINE = Path(__file__).resolve().parent.parent / "sample_data" / "line"
 TEXTURE = "v{}_texture_256x192_yuv420p.yuv"
@@ -25,11 +25,19 @@ DEPTH = "v{}_depth_256x192_yuv420p.yuv"
 
 def random_frame(rng, width, height, chroma="420", bits=8):
     fmt = YuvFormat(width, height, chroma=chroma, bits=bits)
-    return [rng.integers(0, 2 ** bits, shape, dtype=fmt.dtype) for shape in fmt.plane_shapes]
+    return [rng.integers(0, 2**bits, shape, dtype=fmt.dtype) for shape in fmt.plane_shapes]
 
 
-CASES = [("side-by-side", 2, 0), ("top-bottom", 2, 0), ("grid", 1, 0), ("grid", 3, 0),
-         ("grid", 5, 0), ("grid", 16, 0), ("atlas", 3, 3), ("atlas", 5, 2)]
+CASES = [
+    ("side-by-side", 2, 0),
+    ("top-bottom", 2, 0),
+    ("grid", 1, 0),
+    ("grid", 3, 0),
+    ("grid", 5, 0),
+    ("grid", 16, 0),
+    ("atlas", 3, 3),
+    ("atlas", 5, 2),
+]
 
 
 @pytest.mark.parametrize("layout, count, depths", CASES)
@@ -37,12 +45,17 @@ CASES = [("side-by-side", 2, 0), ("top-bottom", 2, 0), ("grid", 1, 0), ("grid", 
 @pytest.mark.parametrize("chroma, bits", [("420", 8), ("422", 10), ("444", 8)])
 def test_round_trip_is_bit_exact(layout, count, depths, width, height, chroma, bits):
     rng = np.random.default_rng(count * 1000 + width)
-    views = {(f"v{i}", "texture"): random_frame(rng, width, height, chroma, bits)
-             for i in range(count)}
-    views.update({(f"v{i}", "depth"): random_frame(rng, width, height, "400", bits)
-                  for i in range(depths)})
-    plan = plan_layout([(f"v{i}", (width, height)) for i in range(count)], layout=layout,
-                       depths=[(f"v{i}", (width, height)) for i in range(depths)])
+    views = {
+        (f"v{i}", "texture"): random_frame(rng, width, height, chroma, bits) for i in range(count)
+    }
+    views.update(
+        {(f"v{i}", "depth"): random_frame(rng, width, height, "400", bits) for i in range(depths)}
+    )
+    plan = plan_layout(
+        [(f"v{i}", (width, height)) for i in range(count)],
+        layout=layout,
+        depths=[(f"v{i}", (width, height)) for i in range(depths)],
+    )
     assert plan.width % 8 == 0 and plan.height % 8 == 0
     for placement in plan.placements:
         assert placement.x % 2 == 0 and placement.y % 2 == 0
@@ -66,14 +79,16 @@ def test_views_of_different_sizes_share_a_grid_exactly():
 
 
 def test_sixteen_hd_views_fill_an_8k_frame():
-    plan = plan_layout([(f"v{i}", (1920, 1080)) for i in range(16)], layout="grid",
-                       frame_size=(7680, 4320))
+    plan = plan_layout(
+        [(f"v{i}", (1920, 1080)) for i in range(16)], layout="grid", frame_size=(7680, 4320)
+    )
     assert (plan.width, plan.height) == (7680, 4320)
     corners = {(placement.x, placement.y) for placement in plan.placements}
     assert corners == {(1920 * column, 1080 * row) for row in range(4) for column in range(4)}
     with pytest.raises(ValueError, match="more than the 7680x4320 frame"):
-        plan_layout([(f"v{i}", (1920, 1080)) for i in range(17)], layout="grid",
-                    frame_size=(7680, 4320))
+        plan_layout(
+            [(f"v{i}", (1920, 1080)) for i in range(17)], layout="grid", frame_size=(7680, 4320)
+        )
 
 
 @pytest.mark.parametrize("layout, axis", [("side-by-side", 1), ("top-bottom", 0)])
@@ -82,14 +97,19 @@ def test_halved_layouts_restore_smooth_pictures(layout, axis):
     # interpolating between their centres is exact on straight lines, up to rounding
     ramp = np.add.outer(np.arange(96), np.arange(128)).astype(np.uint8)
     fmt = YuvFormat(128, 96)
-    frame = [ramp, np.full(fmt.plane_shapes[1], 100, np.uint8),
-             np.full(fmt.plane_shapes[2], 150, np.uint8)]
+    frame = [
+        ramp,
+        np.full(fmt.plane_shapes[1], 100, np.uint8),
+        np.full(fmt.plane_shapes[2], 150, np.uint8),
+    ]
     plan = plan_layout([("a", (128, 96)), ("b", (128, 96))], layout=layout, half=True)
-    assert (plan.width, plan.height) == ((128, 96) if layout == "side-by-side" else (128, 96))
+    assert (plan.width, plan.height) == (128, 96)
     assert plan.placements[1].decimation == ((2, 1) if axis == 1 else (1, 2))
-    restored = unpack_frame(plan, pack_frame(plan, {("a", "texture"): frame,
-                                                    ("b", "texture"): frame},
-                                             chroma="420", bits=8), chroma="420")
+    restored = unpack_frame(
+        plan,
+        pack_frame(plan, {("a", "texture"): frame, ("b", "texture"): frame}, chroma="420", bits=8),
+        chroma="420",
+    )
     inner = (slice(1, -1), slice(1, -1))
     difference = np.abs(restored[("a", "texture")][0].astype(int) - ramp.astype(int))
     assert difference[inner].max() <= 1
@@ -114,8 +134,14 @@ def video_bytes(path: Path) -> bytes:
 def test_pack_and_unpack_the_sample_views_and_depth_maps(tmp_path):
     arguments = []
     for view in range(5):
-        arguments += ["--view", f"cam{view}", LINE / TEXTURE.format(view),
-                      "--depth", f"cam{view}", LINE / DEPTH.format(view)]
+        arguments += [
+            "--view",
+            f"cam{view}",
+            LINE / TEXTURE.format(view),
+            "--depth",
+            f"cam{view}",
+            LINE / DEPTH.format(view),
+        ]
     packed = tmp_path / "atlas_768x768_yuv420p.yuv"
     code, _, stderr = invoke(pack.command, *arguments, "--layout", "atlas", "-o", packed)
     assert code == 0, stderr
@@ -132,23 +158,45 @@ def test_pack_and_unpack_the_sample_views_and_depth_maps(tmp_path):
 
 def test_halved_side_by_side_of_the_sample_pair(tmp_path):
     packed = tmp_path / "sbs.yuv"
-    code, _, stderr = invoke(pack.command, "--view", "left", LINE / TEXTURE.format(1),
-                             "--view", "right", LINE / TEXTURE.format(3),
-                             "--layout", "side-by-side", "--half", "-o", packed)
+    code, _, stderr = invoke(
+        pack.command,
+        "--view",
+        "left",
+        LINE / TEXTURE.format(1),
+        "--view",
+        "right",
+        LINE / TEXTURE.format(3),
+        "--layout",
+        "side-by-side",
+        "--half",
+        "-o",
+        packed,
+    )
     assert code == 0, stderr
     assert read_sidecar(packed.with_suffix(".json")).layout.width == 256
     assert invoke(pack.command, "--unpack", packed, "-o", tmp_path / "views")[0] == 0
     fmt = YuvFormat(256, 192)
-    with open_video(LINE / TEXTURE.format(1), fmt) as original, \
-            open_video(tmp_path / "views" / TEXTURE.format(1), fmt) as restored:
+    with (
+        open_video(LINE / TEXTURE.format(1), fmt) as original,
+        open_video(tmp_path / "views" / TEXTURE.format(1), fmt) as restored,
+    ):
         # half the columns are gone: smooth parts survive, fine texture does not
         assert 25.0 < psnr(original.read(0)[0], restored.read(0)[0], max_value=255) < 60.0
 
 
 def test_a_frame_size_too_small_for_the_grid(tmp_path):
-    code, _, stderr = invoke(pack.command, *[arg for view in range(5) for arg in
-                                             ("--view", f"cam{view}", LINE / TEXTURE.format(view))],
-                             "--frame-size", "512x384", "-o", tmp_path / "p.yuv")
+    code, _, stderr = invoke(
+        pack.command,
+        *[
+            arg
+            for view in range(5)
+            for arg in ("--view", f"cam{view}", LINE / TEXTURE.format(view))
+        ],
+        "--frame-size",
+        "512x384",
+        "-o",
+        tmp_path / "p.yuv",
+    )
     assert code == 2
     assert_one_line_error(stderr, "512x384")
     assert not (tmp_path / "p.yuv").exists()
@@ -157,16 +205,37 @@ def test_a_frame_size_too_small_for_the_grid(tmp_path):
 def test_views_of_different_pixel_formats(tmp_path):
     grey = tmp_path / "g_256x192_gray.yuv"
     write_video(grey, YuvFormat(256, 192, chroma="400"), [[np.zeros((192, 256), np.uint8)]])
-    code, _, stderr = invoke(pack.command, "--view", "a", LINE / TEXTURE.format(0),
-                             "--view", "b", grey, "-o", tmp_path / "p.yuv")
+    code, _, stderr = invoke(
+        pack.command,
+        "--view",
+        "a",
+        LINE / TEXTURE.format(0),
+        "--view",
+        "b",
+        grey,
+        "-o",
+        tmp_path / "p.yuv",
+    )
     assert code == 1
     assert_one_line_error(stderr, "pixel format")
 
 
 def test_unpack_needs_a_sidecar_that_fits(tmp_path):
     packed = tmp_path / "p.yuv"
-    assert invoke(pack.command, "--view", "a", LINE / TEXTURE.format(0), "--view", "b",
-                  LINE / TEXTURE.format(1), "-o", packed)[0] == 0
+    assert (
+        invoke(
+            pack.command,
+            "--view",
+            "a",
+            LINE / TEXTURE.format(0),
+            "--view",
+            "b",
+            LINE / TEXTURE.format(1),
+            "-o",
+            packed,
+        )[0]
+        == 0
+    )
     lone = tmp_path / "lone.yuv"
     lone.write_bytes(packed.read_bytes())
     code, _, stderr = invoke(pack.command, "--unpack", lone, "-o", tmp_path / "out")
@@ -177,8 +246,9 @@ def test_unpack_needs_a_sidecar_that_fits(tmp_path):
     document["frames"] = 7
     wrong = tmp_path / "wrong.json"
     wrong.write_text(json.dumps(document))
-    code, _, stderr = invoke(pack.command, "--unpack", packed, "--sidecar", wrong,
-                             "-o", tmp_path / "out")
+    code, _, stderr = invoke(
+        pack.command, "--unpack", packed, "--sidecar", wrong, "-o", tmp_path / "out"
+    )
     assert code == 1
     assert_one_line_error(stderr, "7")
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
@@ -186,8 +256,20 @@ def test_unpack_needs_a_sidecar_that_fits(tmp_path):
 
 def test_sidecar_errors_name_the_view(tmp_path):
     packed = tmp_path / "p.yuv"
-    assert invoke(pack.command, "--view", "a", LINE / TEXTURE.format(0), "--view", "b",
-                  LINE / TEXTURE.format(1), "-o", packed)[0] == 0
+    assert (
+        invoke(
+            pack.command,
+            "--view",
+            "a",
+            LINE / TEXTURE.format(0),
+            "--view",
+            "b",
+            LINE / TEXTURE.format(1),
+            "-o",
+            packed,
+        )[0]
+        == 0
+    )
     document = json.loads(packed.with_suffix(".json").read_text())
     document["views"][1]["x"] = 10
     bad = tmp_path / "bad.json"

@@ -30,8 +30,13 @@ def texture(shape=(60, 80), seed=0):
 def shifted(image, disparity):
     """The view of a camera BASELINE to the right: x_right = x - disparity."""
     matrix = np.array([[1.0, 0.0, disparity], [0.0, 1.0, 0.0]])
-    return cv2.warpAffine(image, matrix, image.shape[1::-1], flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
-                          borderMode=cv2.BORDER_REFLECT)
+    return cv2.warpAffine(
+        image,
+        matrix,
+        image.shape[1::-1],
+        flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
+        borderMode=cv2.BORDER_REFLECT,
+    )
 
 
 #: Planes at disparities 0..8 px to a camera BASELINE away: 1/z = d / (f B).
@@ -49,15 +54,23 @@ def test_rectified_homographies_are_horizontal_shifts():
 
 def test_world_planes_agree_with_camera_planes_for_a_camera_at_the_origin():
     center, right = camera("c", 0.0), camera("r", BASELINE)
-    np.testing.assert_allclose(sweep_homographies(center, right, INVERSE[1:], depth_type=1),
-                               sweep_homographies(center, right, INVERSE[1:]), atol=1e-9)
+    np.testing.assert_allclose(
+        sweep_homographies(center, right, INVERSE[1:], depth_type=1),
+        sweep_homographies(center, right, INVERSE[1:]),
+        atol=1e-9,
+    )
 
 
 def test_a_textured_plane_is_found_at_its_disparity_by_either_neighbour():
     center_view = texture()
     for side, x, disparity in (("right", BASELINE, 5), ("left", -BASELINE, -5)):
-        sweep = plane_sweep_cost(center_view, [shifted(center_view, disparity)],
-                                 camera("c", 0.0), [camera(side, x)], INVERSE)
+        sweep = plane_sweep_cost(
+            center_view,
+            [shifted(center_view, disparity)],
+            camera("c", 0.0),
+            [camera(side, x)],
+            INVERSE,
+        )
         interior = np.s_[5:-5, 15:-15]
         assert (sweep.cost.argmin(axis=2)[interior] == 5).mean() > 0.99
         assert sweep.seen[interior].all()
@@ -65,8 +78,14 @@ def test_a_textured_plane_is_found_at_its_disparity_by_either_neighbour():
 
 def test_points_outside_the_neighbour_are_not_seen():
     center_view = texture()
-    sweep = plane_sweep_cost(center_view, [shifted(center_view, 3)], camera("c", 0.0),
-                             [camera("r", BASELINE)], INVERSE, outside_cost=0.5)
+    sweep = plane_sweep_cost(
+        center_view,
+        [shifted(center_view, 3)],
+        camera("c", 0.0),
+        [camera("r", BASELINE)],
+        INVERSE,
+        outside_cost=0.5,
+    )
     # plane k sends x to x - k: columns x < k - 0.5 leave the picture
     for k in range(9):
         columns = np.arange(80)
@@ -88,8 +107,9 @@ def test_the_least_cost_of_the_neighbours_ignores_one_that_sees_garbage():
 
 def test_general_layout_a_rotated_neighbour_finds_the_plane():
     angle = np.radians(4.0)
-    rotation = np.array([[np.cos(angle), 0, -np.sin(angle)], [0, 1, 0],
-                         [np.sin(angle), 0, np.cos(angle)]])
+    rotation = np.array(
+        [[np.cos(angle), 0, -np.sin(angle)], [0, 1, 0], [np.sin(angle), 0, np.cos(angle)]]
+    )
     center, neighbour = camera("c", 0.0), camera("n", 0.3, rotation)
     z = 4.0
     # A plane textured beyond what the center sees, so that the neighbour sees texture
@@ -100,7 +120,7 @@ def test_general_layout_a_rotated_neighbour_finds_the_plane():
     # The neighbour's view of the plane z = 4: neighbour(H x) = center(x).
     homography = plane_homography(center, neighbour, z) @ to_center
     view = cv2.warpPerspective(big, homography, (80, 60), flags=cv2.INTER_LINEAR)
-    inverse = np.linspace(0.05, 0.45, 21)      # 0.6 px apart; 1/4 is plane 10
+    inverse = np.linspace(0.05, 0.45, 21)  # 0.6 px apart; 1/4 is plane 10
     sweep = plane_sweep_cost(center_view, [view], center, [neighbour], inverse)
     chosen = sweep.cost.argmin(axis=2)
     seen_interior = sweep.seen[8:-8, 8:-8].all(axis=2)
@@ -110,24 +130,37 @@ def test_general_layout_a_rotated_neighbour_finds_the_plane():
 
 def test_block_costs_are_3x3_means():
     center_view = texture()
-    args = (center_view, [shifted(center_view, 2)], camera("c", 0.0), [camera("r", BASELINE)],
-            INVERSE)
+    args = (
+        center_view,
+        [shifted(center_view, 2)],
+        camera("c", 0.0),
+        [camera("r", BASELINE)],
+        INVERSE,
+    )
     single = plane_sweep_cost(*args).cost
     block = plane_sweep_cost(*args, block=3).cost
     np.testing.assert_allclose(block[10, 30], single[9:12, 29:32].mean(axis=(0, 1)), rtol=1e-5)
 
 
-@pytest.mark.parametrize("change, message", [
-    ({"neighbours": []}, "at least one neighbour"),
-    ({"inverse_depths": [-0.1, 0.2]}, "finite and >= 0"),
-    ({"inverse_depths": []}, "no depth planes"),
-    ({"block": 2}, "block must be 1 or 3"),
-    ({"precision": (0, 1)}, "precision must be two positive integers"),
-    ({"filter": "nearest"}, "filter must be one of"),
-])
+@pytest.mark.parametrize(
+    "change, message",
+    [
+        ({"neighbours": []}, "at least one neighbour"),
+        ({"inverse_depths": [-0.1, 0.2]}, "finite and >= 0"),
+        ({"inverse_depths": []}, "no depth planes"),
+        ({"block": 2}, "block must be 1 or 3"),
+        ({"precision": (0, 1)}, "precision must be two positive integers"),
+        ({"filter": "nearest"}, "filter must be one of"),
+    ],
+)
 def test_bad_arguments(change, message):
-    arguments = {"center": texture(), "neighbours": [texture()], "center_camera": camera("c", 0),
-                 "neighbour_cameras": [camera("r", BASELINE)], "inverse_depths": INVERSE}
+    arguments = {
+        "center": texture(),
+        "neighbours": [texture()],
+        "center_camera": camera("c", 0),
+        "neighbour_cameras": [camera("r", BASELINE)],
+        "inverse_depths": INVERSE,
+    }
     arguments.update(change)
     with pytest.raises(ValueError, match=message):
         plane_sweep_cost(**arguments)

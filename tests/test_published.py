@@ -11,10 +11,9 @@ import sys
 from pathlib import Path
 
 import pytest
-
 from shared_data import REPO_ROOT, data_root, shared_data
 
-pytestmark = pytest.mark.slow     # `make test-fast` leaves these out
+pytestmark = pytest.mark.slow  # `make test-fast` leaves these out
 
 THRESHOLDS = REPO_ROOT / "configs" / "middlebury" / "published_thresholds.txt"
 
@@ -30,8 +29,9 @@ def _thresholds() -> dict[str, tuple[float, float]]:
 
 def _mean_scores(path: Path) -> tuple[float, float]:
     """Y-PSNR and IV-PSNR of the ``mean`` line of ``mvtools evaluate``'s output."""
-    fields = next(line for line in path.read_text().splitlines()
-                  if line.startswith("  mean")).split()
+    fields = next(
+        line for line in path.read_text().splitlines() if line.startswith("  mean")
+    ).split()
     return float(fields[1]), float(fields[6])
 
 
@@ -45,9 +45,20 @@ def published(tmp_path_factory):
     if not (bin_dir / "mvtools").exists():
         pytest.fail(f"{bin_dir / 'mvtools'} not found: install mvtools (make install)")
     completed = subprocess.run(
-        ["make", "--no-print-directory", "published", f"BUILD={build}", f"DATA={data_root()}",
-         f"BIN={bin_dir}", "-o", f"{REPO_ROOT / '.venv' / '.installed'}"],
-        cwd=REPO_ROOT, capture_output=True, text=True)
+        [
+            "make",
+            "--no-print-directory",
+            "published",
+            f"BUILD={build}",
+            f"DATA={data_root()}",
+            f"BIN={bin_dir}",
+            "-o",
+            f"{REPO_ROOT / '.venv' / '.installed'}",
+        ],
+        cwd=REPO_ROOT,
+        capture_output=True,
+        text=True,
+    )
     return completed, build / "published"
 
 
@@ -77,9 +88,14 @@ def test_published_pipeline_scores_the_depth_behind_cones(published):
 def test_published_pipeline_times_every_stage_and_synthesizes_kendo(published):
     completed, folder = published
     assert completed.returncode == 0, completed.stderr[-3000:]
-    programs = {line.split("\t")[1] for line in
-                (folder / "stage_times.tsv").read_text().splitlines()}
-    assert {"mvtools convert", "mvtools estimate-depth", "mvtools synthesize",
-            "mvtools evaluate"} <= programs
+    programs = {
+        line.split("\t")[1] for line in (folder / "stage_times.tsv").read_text().splitlines()
+    }
+    assert {
+        "mvtools convert",
+        "mvtools estimate-depth",
+        "mvtools synthesize",
+        "mvtools evaluate",
+    } <= programs
     kendo = folder / "kendo" / "synthesized_02_1024x768_yuv420p.yuv"
     assert kendo.stat().st_size % (1024 * 768 * 3 // 2) == 0 and kendo.stat().st_size > 0

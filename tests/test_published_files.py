@@ -4,19 +4,22 @@ its kind (VSRS/HTM camera files, VSRS and 3D-HTM configurations)."""
 from __future__ import annotations
 
 import pytest
+from shared_data import data_root, shared_data
 
 from mvtools.io.cameras import read_cameras, read_htm_cameras
 from mvtools.io.config import load_params, read_config, read_htm_config
 from mvtools.params import VsrsParams
-from shared_data import data_root, shared_data
 
 
 def _published_files():
     mpeg = data_root() / "mpeg"
     if not mpeg.exists():
         return ["(missing)"]
-    return sorted(str(path.relative_to(mpeg)) for path in mpeg.rglob("*")
-                  if path.suffix in (".cfg", ".txt") and not path.name.startswith("MANIFEST"))
+    return sorted(
+        str(path.relative_to(mpeg))
+        for path in mpeg.rglob("*")
+        if path.suffix in (".cfg", ".txt") and not path.name.startswith("MANIFEST")
+    )
 
 
 def _load(path):
@@ -39,8 +42,7 @@ def test_published_file_count():
     # 7 files and Poznan Hall 2's 19 (its camera file, 16 VSRS configurations and 2 HTM
     # files): negative depth ranges among them.
     files = _published_files()
-    counts = {"vsrs_camera_parameters/": 23, "vsrs_configs/": 12, "kendo/": 7,
-              "poznan_hall2/": 19}
+    counts = {"vsrs_camera_parameters/": 23, "vsrs_configs/": 12, "kendo/": 7, "poznan_hall2/": 19}
     for folder, count in counts.items():
         assert sum(name.startswith(folder) for name in files) == count, folder
     assert len(files) == sum(counts.values())

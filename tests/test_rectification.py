@@ -21,8 +21,14 @@ from mvtools.geometry.depth import depth_to_z
 from mvtools.geometry.projection import project
 from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import read_frame
-from mvtools.rectification import (EDGE_TOLERANCE, chroma_maps, rectified_depth,
-                                   rectify_cameras, remap_plane, undistortion)
+from mvtools.rectification import (
+    EDGE_TOLERANCE,
+    chroma_maps,
+    rectified_depth,
+    rectify_cameras,
+    remap_plane,
+    undistortion,
+)
 from mvtools.scene import default_scene, pixel_rays, project_points, render, rotation_about_y
 
 SAMPLE = Path(__file__).resolve().parent.parent / "sample_data"
@@ -31,9 +37,18 @@ ZNEAR, ZFAR = TRUTH["znear"], TRUTH["zfar"]
 
 
 def _distorted_rig() -> list[Camera]:
-    return [Camera(name=c["name"], K=c["K"], R=c["R"], t=c["t"], distortion=c["distortion"],
-                   size=tuple(c["size"]), depth_range=(ZNEAR, ZFAR))
-            for c in TRUTH["rigs"]["distorted"]]
+    return [
+        Camera(
+            name=c["name"],
+            K=c["K"],
+            R=c["R"],
+            t=c["t"],
+            distortion=c["distortion"],
+            size=tuple(c["size"]),
+            depth_range=(ZNEAR, ZFAR),
+        )
+        for c in TRUTH["rigs"]["distorted"]
+    ]
 
 
 @pytest.fixture(scope="module")
@@ -64,8 +79,12 @@ def _visible_points(cameras, count, *, seed, depth_range=(ZNEAR, ZFAR)):
 
 def _rectified_positions(rectification, points):
     """(C, N, 2): each camera's true distorted projection, mapped into its output picture."""
-    return np.stack([rectification.rectify_points(project_points(camera, points)[0], i)
-                     for i, camera in enumerate(rectification.sources)])
+    return np.stack(
+        [
+            rectification.rectify_points(project_points(camera, points)[0], i)
+            for i, camera in enumerate(rectification.sources)
+        ]
+    )
 
 
 def _rms_row_difference(positions):
@@ -75,6 +94,7 @@ def _rms_row_difference(positions):
 
 
 # --------------------------------------------------------------------------- bar 1: synthetic rig
+
 
 def test_corresponding_points_share_a_row_after_rectification(rectified, rig):
     points = _visible_points(rig, 3000, seed=1)
@@ -122,8 +142,13 @@ def test_maps_return_the_source_pixel_of_the_rectified_position(rectified, rig):
         out = rectified.rectify_points(source_uv, i)
         map_x, map_y = rectified.maps[i]
         inside = np.all((out >= 0) & (out <= np.array(rectified.cameras[i].size) - 1), axis=1)
-        sampled = np.stack([map_coordinates(m.astype(np.float64), [out[inside, 1], out[inside, 0]],
-                                            order=1) for m in (map_x, map_y)], axis=-1)
+        sampled = np.stack(
+            [
+                map_coordinates(m.astype(np.float64), [out[inside, 1], out[inside, 0]], order=1)
+                for m in (map_x, map_y)
+            ],
+            axis=-1,
+        )
         assert np.abs(sampled - source_uv[inside]).max() < 0.01
         # And at the output pixel centres themselves, exactly (float32 maps).
         v, u = np.mgrid[0:192, 0:256]
@@ -149,7 +174,8 @@ def test_rectified_depth_is_the_depth_of_the_sampled_point_along_the_new_axis(re
     column, row = np.floor(map_x + 0.5).astype(int), np.floor(map_y + 0.5).astype(int)
     assert np.all((column >= 0) & (column < 256) & (row >= 0) & (row < 192))  # alpha = 0
     points = source.t + z[row, column].ravel()[:, None] * pixel_rays(
-        source, column.ravel().astype(float), row.ravel().astype(float))
+        source, column.ravel().astype(float), row.ravel().astype(float)
+    )
     uv, expected = project(camera, points)
     np.testing.assert_allclose(out.ravel(), expected, rtol=1e-12)
     # That point is seen where the sampled pixel centre maps, near the output pixel: half
@@ -214,20 +240,28 @@ def test_a_pair_is_rectified_along_its_baseline(rig):
 
 # --------------------------------------------------------------------------- bar 3: alpha
 
+
 def _border_margins(rectification):
     """Per camera, how far inside its source picture the output border samples (min over
     the four sides), and how far inside the output the source border lands."""
     sampled, landed = [], []
     for i, (source, (map_x, map_y)) in enumerate(zip(rectification.sources, rectification.maps)):
         width, height = source.size
-        sampled.append(min(map_x.min(), width - 1 - map_x.max(), map_y.min(),
-                           height - 1 - map_y.max()))
+        sampled.append(
+            min(map_x.min(), width - 1 - map_x.max(), map_y.min(), height - 1 - map_y.max())
+        )
         u = np.r_[np.arange(width), np.full(height, width - 1), np.arange(width), np.zeros(height)]
         v = np.r_[np.zeros(width), np.arange(height), np.full(width, height - 1), np.arange(height)]
         out = rectification.rectify_points(np.stack([u, v], axis=-1).astype(float), i)
         out_width, out_height = rectification.cameras[i].size
-        landed.append(min(out[:, 0].min(), out_width - 1 - out[:, 0].max(), out[:, 1].min(),
-                          out_height - 1 - out[:, 1].max()))
+        landed.append(
+            min(
+                out[:, 0].min(),
+                out_width - 1 - out[:, 0].max(),
+                out[:, 1].min(),
+                out_height - 1 - out[:, 1].max(),
+            )
+        )
     return np.array(sampled), np.array(landed)
 
 
@@ -257,7 +291,8 @@ def test_alpha_between_interpolates_the_output_rectangle(rig, rectified):
     assert 1.0 / K[0, 0] == pytest.approx(np.mean([1.0 / k[0, 0] for k in ends]), rel=1e-12)
     for axis in (0, 1):
         assert (middle[axis] - K[axis, 2]) / K[0, 0] == pytest.approx(
-            np.mean([(middle[axis] - k[axis, 2]) / k[0, 0] for k in ends]), rel=1e-9)
+            np.mean([(middle[axis] - k[axis, 2]) / k[0, 0] for k in ends]), rel=1e-9
+        )
     assert all(0.9 < f < 1.0 for f in half.valid_fraction[:4] + half.kept_fraction[:4])
 
 
@@ -265,20 +300,30 @@ def test_one_principal_point_for_cameras_with_different_ones():
     """Hand-computed: parallel cameras, f = 200, cy = 95.5, cx = 100 and 140, 256x192. In
     pixels of f, camera 0 sees x in [-100, 155], camera 1 [-140, 115]: alpha = 0 fits the
     output's 255 px width to the common [-100, 115], alpha = 1 to the union [-140, 155]."""
-    cameras = [Camera(f"c{i}", [[200.0, 0.0, cx], [0.0, 200.0, 95.5], [0.0, 0.0, 1.0]],
-                      t=[0.1 * i, 0.0, 0.0], size=(256, 192)) for i, cx in enumerate((100, 140))]
+    cameras = [
+        Camera(
+            f"c{i}",
+            [[200.0, 0.0, cx], [0.0, 200.0, 95.5], [0.0, 0.0, 1.0]],
+            t=[0.1 * i, 0.0, 0.0],
+            size=(256, 192),
+        )
+        for i, cx in enumerate((100, 140))
+    ]
     for alpha, (low, high) in ((0.0, (-100.0, 115.0)), (1.0, (-140.0, 155.0))):
         result = rectify_cameras(cameras, alpha=alpha)
         zoom = 255.0 / (high - low)
-        np.testing.assert_allclose(result.cameras[0].K, [[200.0 * zoom, 0.0, -low * zoom],
-                                                         [0.0, 200.0 * zoom, 95.5],
-                                                         [0.0, 0.0, 1.0]], atol=1e-9)
+        np.testing.assert_allclose(
+            result.cameras[0].K,
+            [[200.0 * zoom, 0.0, -low * zoom], [0.0, 200.0 * zoom, 95.5], [0.0, 0.0, 1.0]],
+            atol=1e-9,
+        )
         np.testing.assert_array_equal(result.cameras[1].K, result.cameras[0].K)
     assert rectify_cameras(cameras, alpha=0.0).valid_fraction == [1.0, 1.0]
     assert rectify_cameras(cameras, alpha=1.0).kept_fraction == [1.0, 1.0]
 
 
 # --------------------------------------------------------------------------- undistortion
+
 
 def test_undistortion_keeps_each_orientation_and_removes_the_lens(rig):
     for alpha in (0.0, 1.0):
@@ -311,16 +356,19 @@ MPEG_ARRAYS = [
 
 
 def _mpeg_array(name, size, pattern):
-    cameras = [camera for camera in read_cameras(
-        shared_data("mpeg", "vsrs_camera_parameters", name)).values()
-        if re.fullmatch(pattern, camera.name)]
+    cameras = [
+        camera
+        for camera in read_cameras(shared_data("mpeg", "vsrs_camera_parameters", name)).values()
+        if re.fullmatch(pattern, camera.name)
+    ]
     for camera in cameras:
         camera.size = size
     return cameras
 
 
-@pytest.mark.parametrize("name, size, pattern, collinear, depths", MPEG_ARRAYS,
-                         ids=[entry[0] for entry in MPEG_ARRAYS])
+@pytest.mark.parametrize(
+    "name, size, pattern, collinear, depths", MPEG_ARRAYS, ids=[entry[0] for entry in MPEG_ARRAYS]
+)
 def test_mpeg_linear_arrays_rectify_to_one_model(name, size, pattern, collinear, depths):
     cameras = _mpeg_array(name, size, pattern)
     assert len(cameras) in (9, 12)
@@ -346,10 +394,12 @@ def test_mpeg_linear_arrays_rectify_to_one_model(name, size, pattern, collinear,
     for i, (camera, source) in enumerate(zip(result.cameras, cameras)):
         rotation_vector = cv2.Rodrigues(camera.R @ source.R.T)[0]
         assert result.rotation_degrees[i] == pytest.approx(
-            np.degrees(np.linalg.norm(rotation_vector)), abs=1e-9)
+            np.degrees(np.linalg.norm(rotation_vector)), abs=1e-9
+        )
         warped = np.c_[pixels, np.ones(len(pixels))] @ result.homographies[i].T
-        np.testing.assert_allclose(warped[:, :2] / warped[:, 2:],
-                                   result.rectify_points(pixels, i), atol=1e-6)
+        np.testing.assert_allclose(
+            warped[:, :2] / warped[:, 2:], result.rectify_points(pixels, i), atol=1e-6
+        )
     assert result.valid_fraction == [1.0] * len(cameras)
     # Epipolar rows: points in front of the array.
     points = _visible_points(cameras, 2000, seed=7, depth_range=depths)
@@ -375,6 +425,7 @@ def test_mpeg_file_with_a_camera_off_the_line_is_refused():
 
 # --------------------------------------------------------------------------- bar 4: bad input
 
+
 def _two_cameras(**changes):
     cameras = _distorted_rig()[1:3]
     for key, value in changes.items():
@@ -382,18 +433,25 @@ def _two_cameras(**changes):
     return cameras
 
 
-@pytest.mark.parametrize("cameras, options, message", [
-    (_distorted_rig()[:1], {}, r"need at least 2 cameras, got 1"),
-    ([], {}, r"need at least 2 cameras, got 0"),
-    (_two_cameras(size=None), {}, r"camera 'cam2' has no size"),
-    (_two_cameras(t=np.array([-0.1, 0.0, 0.0])), {}, r"cameras 'cam1' and 'cam2' have the same "
-                                                     r"centre \[-0.1, 0.0, 0.0\]"),
-    (_distorted_rig()[1:3], {"alpha": -0.1}, r"alpha must be in \[0, 1\].*got -0.1"),
-    (_distorted_rig()[1:3], {"alpha": 1.5}, r"alpha must be in \[0, 1\].*got 1.5"),
-    (_distorted_rig()[1:3], {"alpha": float("nan")}, r"alpha must be in \[0, 1\].*got nan"),
-    (_two_cameras(size=(320, 240)), {}, r"picture sizes differ"),
-    (_distorted_rig()[1:3], {"size": (1, 100)}, r"output size must be at least 2x2"),
-])
+@pytest.mark.parametrize(
+    "cameras, options, message",
+    [
+        (_distorted_rig()[:1], {}, r"need at least 2 cameras, got 1"),
+        ([], {}, r"need at least 2 cameras, got 0"),
+        (_two_cameras(size=None), {}, r"camera 'cam2' has no size"),
+        (
+            _two_cameras(t=np.array([-0.1, 0.0, 0.0])),
+            {},
+            r"cameras 'cam1' and 'cam2' have the same "
+            r"centre \[-0.1, 0.0, 0.0\]",
+        ),
+        (_distorted_rig()[1:3], {"alpha": -0.1}, r"alpha must be in \[0, 1\].*got -0.1"),
+        (_distorted_rig()[1:3], {"alpha": 1.5}, r"alpha must be in \[0, 1\].*got 1.5"),
+        (_distorted_rig()[1:3], {"alpha": float("nan")}, r"alpha must be in \[0, 1\].*got nan"),
+        (_two_cameras(size=(320, 240)), {}, r"picture sizes differ"),
+        (_distorted_rig()[1:3], {"size": (1, 100)}, r"output size must be at least 2x2"),
+    ],
+)
 def test_bad_input_is_refused(cameras, options, message):
     with pytest.raises(ValueError, match=message):
         rectify_cameras(cameras, **options)
@@ -410,6 +468,7 @@ def test_undistortion_needs_a_camera_with_a_size():
 
 # --------------------------------------------------------------------------- planes
 
+
 def test_remap_plane_bilinear_and_nearest():
     plane = np.array([[0, 100, 200], [40, 140, 240]], dtype=np.uint8)
     map_x = np.array([[0.5, 1.5, 2.75, -3.0]], dtype=np.float32)
@@ -417,8 +476,9 @@ def test_remap_plane_bilinear_and_nearest():
     # (0 + 100) / 2; mean of 100, 200, 140, 240; 240 / 4 + 3 / 4 of the fill; fill.
     np.testing.assert_array_equal(remap_plane(plane, map_x, map_y), [[50, 170, 60, 0]])
     # Nearest: 0.5 rounds up to column 1; 2.75 rounds to column 3, outside.
-    np.testing.assert_array_equal(remap_plane(plane, map_x, map_y, nearest=True, fill=7),
-                                  [[100, 240, 7, 7]])
+    np.testing.assert_array_equal(
+        remap_plane(plane, map_x, map_y, nearest=True, fill=7), [[100, 240, 7, 7]]
+    )
     for dtype in (np.uint16, np.float32, np.float64):
         out = remap_plane(plane.astype(dtype), map_x[:, :2], map_y[:, :2])
         assert out.dtype == dtype
@@ -436,15 +496,15 @@ def test_rectified_depth_of_a_turned_camera_by_hand():
     about y by atan(0.03); source column 8 (x = 0.03) holds the point 2 (0.03, 0, 1),
     whose depth along the turned axis (0.03, 0, 1) / sqrt(1.0009) is 2 sqrt(1.0009)."""
     source = Camera("s", [[100.0, 0.0, 5.0], [0.0, 100.0, 5.0], [0.0, 0.0, 1.0]], size=(11, 11))
-    turned = Camera("s", source.K, R=rotation_about_y(np.degrees(np.arctan(0.03))),
-                    size=(3, 1))
+    turned = Camera("s", source.K, R=rotation_about_y(np.degrees(np.arctan(0.03))), size=(3, 1))
     map_x = np.array([[8.0, 7.5, -0.6]], dtype=np.float32)  # 7.5 rounds up to 8
     map_y = np.array([[5.0, 5.4, 5.0]], dtype=np.float32)
     out = rectified_depth(np.full((11, 11), 2.0), source, turned, map_x, map_y)
     np.testing.assert_allclose(out[0, :2], 2.0 * np.sqrt(1.0009), rtol=1e-14)
     assert out[0, 2] == np.inf
-    assert np.isnan(rectified_depth(np.full((11, 11), 2.0), source, turned, map_x, map_y,
-                                    fill=np.nan)[0, 2])
+    assert np.isnan(
+        rectified_depth(np.full((11, 11), 2.0), source, turned, map_x, map_y, fill=np.nan)[0, 2]
+    )
     with pytest.raises(ValueError, match="float depths"):
         rectified_depth(np.full((11, 11), 2, dtype=np.uint16), source, turned, map_x, map_y)
 

@@ -15,6 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from program_runner import assert_one_line_error, invoke
+from shared_data import shared_data
 
 from mvtools.cli import rectify
 from mvtools.cli.main import cli
@@ -23,8 +25,6 @@ from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import YuvFormat, open_video
 from mvtools.metrics import psnr
 from mvtools.scene.render import project_points
-from program_runner import assert_one_line_error, invoke
-from shared_data import shared_data
 
 SAMPLE = Path(__file__).resolve().parent.parent / "sample_data"
 DISTORTED = SAMPLE / "distorted"
@@ -95,14 +95,16 @@ def test_points_project_to_the_same_row_in_every_rectified_camera(rectified):
     out, _ = rectified
     cameras = list(read_cameras(out / "cameras.txt").values())
     rng = np.random.default_rng(5)
-    points = np.column_stack([rng.uniform(-1, 1, 200), rng.uniform(-0.7, 0.7, 200),
-                              rng.uniform(2, 13, 200)])
+    points = np.column_stack(
+        [rng.uniform(-1, 1, 200), rng.uniform(-0.7, 0.7, 200), rng.uniform(2, 13, 200)]
+    )
     rows = np.array([project(camera, points)[0][:, 1] for camera in cameras])
     assert np.max(np.abs(rows - rows[0])) < 1e-9
 
 
 def test_one_d_synthesis_on_rectified_views_beats_general_mode_on_the_views_as_built(
-        rectified, tmp_path):
+    rectified, tmp_path
+):
     out, _ = rectified
     program("synthesize", synthesis_config(out, 1), "-o", "synthesized.yuv", "-q", cwd=out)
     rectified_score = mean_luma_psnr(out / TEXTURE.format(2), out / "synthesized.yuv")
@@ -116,9 +118,19 @@ def test_one_d_synthesis_on_rectified_views_beats_general_mode_on_the_views_as_b
 
 
 def test_keep_world_keeps_the_centres_and_a_common_rotation(tmp_path):
-    code, _, stderr = invoke(rectify.command, DISTORTED / "cameras.txt", "--camera", "cam0",
-                             "--camera", "cam4", "--camera-size", "256x192", "--keep-world",
-                             "-o", tmp_path)
+    code, _, stderr = invoke(
+        rectify.command,
+        DISTORTED / "cameras.txt",
+        "--camera",
+        "cam0",
+        "--camera",
+        "cam4",
+        "--camera-size",
+        "256x192",
+        "--keep-world",
+        "-o",
+        tmp_path,
+    )
     assert code == 0, stderr
     source = read_cameras(DISTORTED / "cameras.txt")
     result = read_cameras(tmp_path / "cameras.txt")
@@ -130,10 +142,22 @@ def test_keep_world_keeps_the_centres_and_a_common_rotation(tmp_path):
 
 
 def test_frame_range_streams_only_the_frames_asked(tmp_path):
-    code, _, stderr = invoke(rectify.command, DISTORTED / "cameras.txt", "-o", tmp_path,
-                             "--texture", "cam1", DISTORTED / TEXTURE.format(1),
-                             "--texture", "cam3", DISTORTED / TEXTURE.format(3),
-                             "--start-frame", 1, "--frames", 1)
+    code, _, stderr = invoke(
+        rectify.command,
+        DISTORTED / "cameras.txt",
+        "-o",
+        tmp_path,
+        "--texture",
+        "cam1",
+        DISTORTED / TEXTURE.format(1),
+        "--texture",
+        "cam3",
+        DISTORTED / TEXTURE.format(3),
+        "--start-frame",
+        1,
+        "--frames",
+        1,
+    )
     assert code == 0, stderr
     size = (tmp_path / TEXTURE.format(1)).stat().st_size
     assert size == 256 * 192 * 3 // 2
@@ -142,9 +166,15 @@ def test_frame_range_streams_only_the_frames_asked(tmp_path):
 def test_published_linear_array_rectifies_to_one_orientation(tmp_path):
     camera_file = shared_data("mpeg", "vsrs_camera_parameters", "cam_param_poznan_street.txt")
     names = [f"param_cam{index}" for index in range(9)]
-    code, stdout, stderr = invoke(rectify.command, camera_file, "--camera-size", "1920x1088",
-                                  *(arg for name in names for arg in ("--camera", name)),
-                                  "-o", tmp_path)
+    code, stdout, stderr = invoke(
+        rectify.command,
+        camera_file,
+        "--camera-size",
+        "1920x1088",
+        *(arg for name in names for arg in ("--camera", name)),
+        "-o",
+        tmp_path,
+    )
     assert code == 0, stderr
     cameras = read_cameras(tmp_path / "cameras.txt")
     assert list(cameras) == names
@@ -154,20 +184,65 @@ def test_published_linear_array_rectifies_to_one_orientation(tmp_path):
     assert all(name in stdout for name in names)
 
 
-@pytest.mark.parametrize("arguments, code, fragment", [
-    (["--camera", "cam1", "--camera", "nosuch", "--camera-size", "256x192"], 2, "nosuch"),
-    (["--camera", "cam1", "--camera", "cam3"], 2, "no picture size"),
-    ([], 2, "--camera"),
-    (["--texture", "cam1", str(DISTORTED / TEXTURE.format(1)), "--camera", "cam3",
-      "--camera", "cam4", "--camera-size", "256x192"], 2, "not among the cameras"),
-    (["--depth", "cam1", str(DISTORTED / DEPTH.format(1)), "--camera", "cam1", "--camera",
-      "cam3", "--camera-size", "256x192"], 2, "--depth-range"),
-    (["--camera", "cam1", "--camera", "cam3", "--camera-size", "256x192", "--alpha", "2"], 2,
-     "--alpha"),
-    (["--camera", "cam1", "--camera-size", "256x192"], 2, "two cameras"),
-    (["--camera", "cam1", "--camera", "cam3", "--camera-size", "320x240", "--texture", "cam1",
-      str(DISTORTED / TEXTURE.format(1))], 1, "cam3 320x240"),
-])
+@pytest.mark.parametrize(
+    "arguments, code, fragment",
+    [
+        (["--camera", "cam1", "--camera", "nosuch", "--camera-size", "256x192"], 2, "nosuch"),
+        (["--camera", "cam1", "--camera", "cam3"], 2, "no picture size"),
+        ([], 2, "--camera"),
+        (
+            [
+                "--texture",
+                "cam1",
+                str(DISTORTED / TEXTURE.format(1)),
+                "--camera",
+                "cam3",
+                "--camera",
+                "cam4",
+                "--camera-size",
+                "256x192",
+            ],
+            2,
+            "not among the cameras",
+        ),
+        (
+            [
+                "--depth",
+                "cam1",
+                str(DISTORTED / DEPTH.format(1)),
+                "--camera",
+                "cam1",
+                "--camera",
+                "cam3",
+                "--camera-size",
+                "256x192",
+            ],
+            2,
+            "--depth-range",
+        ),
+        (
+            ["--camera", "cam1", "--camera", "cam3", "--camera-size", "256x192", "--alpha", "2"],
+            2,
+            "--alpha",
+        ),
+        (["--camera", "cam1", "--camera-size", "256x192"], 2, "two cameras"),
+        (
+            [
+                "--camera",
+                "cam1",
+                "--camera",
+                "cam3",
+                "--camera-size",
+                "320x240",
+                "--texture",
+                "cam1",
+                str(DISTORTED / TEXTURE.format(1)),
+            ],
+            1,
+            "cam3 320x240",
+        ),
+    ],
+)
 def test_bad_input_is_one_line_and_writes_nothing(tmp_path, arguments, code, fragment):
     out = tmp_path / "out"
     result = invoke(rectify.command, DISTORTED / "cameras.txt", "-o", out, *arguments)
@@ -181,17 +256,34 @@ def test_refuses_to_overwrite_its_input(tmp_path):
     shutil.copy(DISTORTED / TEXTURE.format(1), tmp_path)
     shutil.copy(DISTORTED / TEXTURE.format(3), tmp_path)
     before = (tmp_path / TEXTURE.format(1)).read_bytes()
-    code, _, stderr = invoke(rectify.command, tmp_path / "cameras.txt", "-o", tmp_path,
-                             "--texture", "cam1", tmp_path / TEXTURE.format(1),
-                             "--texture", "cam3", tmp_path / TEXTURE.format(3))
+    code, _, stderr = invoke(
+        rectify.command,
+        tmp_path / "cameras.txt",
+        "-o",
+        tmp_path,
+        "--texture",
+        "cam1",
+        tmp_path / TEXTURE.format(1),
+        "--texture",
+        "cam3",
+        tmp_path / TEXTURE.format(3),
+    )
     assert code == 2
     assert_one_line_error(stderr, "overwrite")
     assert (tmp_path / TEXTURE.format(1)).read_bytes() == before
 
 
 def test_undistort_keeps_each_camera_where_it_looks(tmp_path):
-    code, _, stderr = invoke(rectify.command, DISTORTED / "cameras.txt", "--undistort",
-                             "--texture", "cam4", DISTORTED / TEXTURE.format(4), "-o", tmp_path)
+    code, _, stderr = invoke(
+        rectify.command,
+        DISTORTED / "cameras.txt",
+        "--undistort",
+        "--texture",
+        "cam4",
+        DISTORTED / TEXTURE.format(4),
+        "-o",
+        tmp_path,
+    )
     assert code == 0, stderr
     source = read_cameras(DISTORTED / "cameras.txt")["cam4"]
     result = read_cameras(tmp_path / "cameras.txt")
@@ -212,8 +304,9 @@ def test_undistort_keeps_each_camera_where_it_looks(tmp_path):
     su, sv = project_points(source, points)[0].T
     x0, y0 = np.floor(su).astype(int), np.floor(sv).astype(int)
     fx, fy = su - x0, sv - y0
-    sampled = ((1 - fy) * ((1 - fx) * before[y0, x0] + fx * before[y0, x0 + 1])
-               + fy * ((1 - fx) * before[y0 + 1, x0] + fx * before[y0 + 1, x0 + 1]))
+    sampled = (1 - fy) * ((1 - fx) * before[y0, x0] + fx * before[y0, x0 + 1]) + fy * (
+        (1 - fx) * before[y0 + 1, x0] + fx * before[y0 + 1, x0 + 1]
+    )
     output = after[v.astype(int), u.astype(int)]
     # measured 0.25 grey levels (the output's own bilinear sampling); the input itself,
     # not undistorted, is 2.5 levels off at the same places
@@ -222,21 +315,55 @@ def test_undistort_keeps_each_camera_where_it_looks(tmp_path):
 
 
 def test_virtual_cameras_between_neighbours(tmp_path):
-    code, _, stderr = invoke(rectify.command, DISTORTED / "cameras.txt", "--camera", "cam1",
-                             "--camera", "cam2", "--camera", "cam3", "--camera-size", "256x192",
-                             "--virtual", 3, "-o", tmp_path)
+    code, _, stderr = invoke(
+        rectify.command,
+        DISTORTED / "cameras.txt",
+        "--camera",
+        "cam1",
+        "--camera",
+        "cam2",
+        "--camera",
+        "cam3",
+        "--camera-size",
+        "256x192",
+        "--virtual",
+        3,
+        "-o",
+        tmp_path,
+    )
     assert code == 0, stderr
     cameras = read_cameras(tmp_path / "cameras.txt")
-    assert list(cameras) == ["cam1", "cam2", "cam3", "cam1_cam2_1", "cam1_cam2_2", "cam1_cam2_3",
-                             "cam2_cam3_1", "cam2_cam3_2", "cam2_cam3_3"]
+    assert list(cameras) == [
+        "cam1",
+        "cam2",
+        "cam3",
+        "cam1_cam2_1",
+        "cam1_cam2_2",
+        "cam1_cam2_3",
+        "cam2_cam3_1",
+        "cam2_cam3_2",
+        "cam2_cam3_3",
+    ]
     # a quarter, a half and three quarters of the way, in the rectified frame
     for k in (1, 2, 3):
-        np.testing.assert_allclose(cameras[f"cam1_cam2_{k}"].t,
-                                   cameras["cam1"].t + k / 4 * (cameras["cam2"].t - cameras["cam1"].t),
-                                   atol=1e-12)
+        np.testing.assert_allclose(
+            cameras[f"cam1_cam2_{k}"].t,
+            cameras["cam1"].t + k / 4 * (cameras["cam2"].t - cameras["cam1"].t),
+            atol=1e-12,
+        )
         np.testing.assert_array_equal(cameras[f"cam2_cam3_{k}"].R, np.eye(3))
         np.testing.assert_array_equal(cameras[f"cam2_cam3_{k}"].K, cameras["cam2"].K)
-    code, _, stderr = invoke(rectify.command, DISTORTED / "cameras.txt", "--camera", "cam1",
-                             "--camera-size", "256x192", "--undistort", "--virtual", 1,
-                             "-o", tmp_path / "out")
+    code, _, stderr = invoke(
+        rectify.command,
+        DISTORTED / "cameras.txt",
+        "--camera",
+        "cam1",
+        "--camera-size",
+        "256x192",
+        "--undistort",
+        "--virtual",
+        1,
+        "-o",
+        tmp_path / "out",
+    )
     assert code == 2 and not (tmp_path / "out").exists()

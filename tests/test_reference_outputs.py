@@ -32,7 +32,7 @@ from synthesize_runner import run_synthesize
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.metrics import psnr
 
-pytestmark = pytest.mark.slow     # `make test-fast` leaves these out
+pytestmark = pytest.mark.slow  # `make test-fast` leaves these out
 
 CONES = YuvFormat(448, 368)
 HALL = YuvFormat(1920, 1088)
@@ -47,19 +47,28 @@ def synthesized_luma(config, *settings, data_dir, fmt, folder):
     """Luma of the one frame ``mvtools synthesize CONFIG --data-dir DATA_DIR SETTINGS``
     writes into ``folder``."""
     output = folder / f"synthesized_{fmt.width}x{fmt.height}_yuv420p.yuv"
-    code, _, err = run_synthesize(config, "--data-dir", data_dir, "-q", *settings,
-                                  "-o", output, cwd=folder)
+    code, _, err = run_synthesize(
+        config, "--data-dir", data_dir, "-q", *settings, "-o", output, cwd=folder
+    )
     assert code == 0, err
     return read_frame(output, fmt)[0]
 
 
-@pytest.mark.parametrize("mode, precision, noise_removal", sorted(VSRS_CONES),
-                         ids=[f"{mode}-P{p}-B{b}" for mode, p, b in sorted(VSRS_CONES)])
+@pytest.mark.parametrize(
+    "mode, precision, noise_removal",
+    sorted(VSRS_CONES),
+    ids=[f"{mode}-P{p}-B{b}" for mode, p, b in sorted(VSRS_CONES)],
+)
 def test_cones_beats_vsrs_and_rvs_at_every_vsrs_setting(tmp_path, mode, precision, noise_removal):
     cones = shared_data("reference_outputs", "cones_mvd")
-    luma = synthesized_luma(cones / f"vsrs_cones_{mode}.cfg", f"Precision={precision}",
-                            f"BoundaryNoiseRemoval={noise_removal}", data_dir=cones, fmt=CONES,
-                            folder=tmp_path)
+    luma = synthesized_luma(
+        cones / f"vsrs_cones_{mode}.cfg",
+        f"Precision={precision}",
+        f"BoundaryNoiseRemoval={noise_removal}",
+        data_dir=cones,
+        fmt=CONES,
+        folder=tmp_path,
+    )
     truth = read_frame(cones / "cones_4_448x368_yuv420p.yuv", CONES)[0]
     score = psnr(truth, luma, max_value=255)
     vsrs = VSRS_CONES[mode, precision, noise_removal]
@@ -77,22 +86,36 @@ def hall_camera_7(tmp_path_factory):
     scores = {}
     for mode, synthesis_mode in MODES.items():
         for references, settings in (("from camera 5", CAMERA_5_AS_RIGHT), ("from both", ())):
-            luma = synthesized_luma(config, "VirtualCameraName=param_cam7", *settings,
-                                    f"SynthesisMode={synthesis_mode}", data_dir=hall, fmt=HALL,
-                                    folder=tmp_path_factory.mktemp("hall"))
+            luma = synthesized_luma(
+                config,
+                "VirtualCameraName=param_cam7",
+                *settings,
+                f"SynthesisMode={synthesis_mode}",
+                data_dir=hall,
+                fmt=HALL,
+                folder=tmp_path_factory.mktemp("hall"),
+            )
             scores[mode, references] = psnr(truth, luma, max_value=255)
     return scores
 
 
-@pytest.mark.parametrize("mode", [
-    "general",
-    pytest.param("1d", marks=pytest.mark.xfail(
-        strict=True, reason="32.28 dB against VSRS's 32.67: VSRS's 1D mode scales its "
-                            "upsampled virtual row down with a [1 2 1] filter, whose blur "
-                            "scores 0.4 dB more on this view, camera 7 being softer than "
-                            "camera 5; no one row filter meets both bars: [1 2 1] on our "
-                            "output gives Hall 32.67 but Cones 1D P2 30.37 (bar 31.15)")),
-])
+@pytest.mark.parametrize(
+    "mode",
+    [
+        "general",
+        pytest.param(
+            "1d",
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="32.28 dB against VSRS's 32.67: VSRS's 1D mode scales its "
+                "upsampled virtual row down with a [1 2 1] filter, whose blur "
+                "scores 0.4 dB more on this view, camera 7 being softer than "
+                "camera 5; no one row filter meets both bars: [1 2 1] on our "
+                "output gives Hall 32.67 but Cones 1D P2 30.37 (bar 31.15)",
+            ),
+        ),
+    ],
+)
 def test_hall_camera_7_from_camera_5_reaches_vsrs(hall_camera_7, mode):
     score = hall_camera_7[mode, "from camera 5"]
     vsrs = VSRS_HALL_FROM_CAMERA_5[mode]

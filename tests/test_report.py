@@ -12,11 +12,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from program_runner import invoke
 
 from mvtools.cli import calibrate, evaluate, report
 from mvtools.io.images import read_image
 from mvtools.report import bar_plot, line_plot
-from program_runner import invoke
 
 SAMPLE = Path(__file__).resolve().parent.parent / "sample_data"
 LINE = SAMPLE / "line"
@@ -24,31 +24,63 @@ CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 
 needs_chromium = pytest.mark.skipif(
     CHROMIUM is None and os.environ.get("MVTOOLS_REQUIRE_DATA") != "1",
-    reason="Debian's chromium is not installed (.ci/run installs it)")
+    reason="Debian's chromium is not installed (.ci/run installs it)",
+)
 
 
 @pytest.fixture(scope="module")
 def build(tmp_path_factory) -> Path:
     """A build folder as the pipeline leaves one: a calibration, videos, a scores file."""
     folder = tmp_path_factory.mktemp("build")
-    code, _, stderr = invoke(calibrate.command, SAMPLE / "checkerboard" / "cam1",
-                             SAMPLE / "checkerboard" / "cam2", "--board", "9x6", "--square", 0.05,
-                             "-o", folder / "rig.txt", "--report", folder / "calibration")
+    code, _, stderr = invoke(
+        calibrate.command,
+        SAMPLE / "checkerboard" / "cam1",
+        SAMPLE / "checkerboard" / "cam2",
+        "--board",
+        "9x6",
+        "--square",
+        0.05,
+        "-o",
+        folder / "rig.txt",
+        "--report",
+        folder / "calibration",
+    )
     assert code == 0, stderr
-    for name in ("v1_texture_256x192_yuv420p.yuv", "v2_texture_256x192_yuv420p.yuv",
-                 "v2_depth_256x192_yuv420p.yuv"):
+    for name in (
+        "v1_texture_256x192_yuv420p.yuv",
+        "v2_texture_256x192_yuv420p.yuv",
+        "v2_depth_256x192_yuv420p.yuv",
+    ):
         shutil.copy(LINE / name, folder / name)
-    code, stdout, stderr = invoke(evaluate.command, folder / "v2_texture_256x192_yuv420p.yuv",
-                                  folder / "v1_texture_256x192_yuv420p.yuv")
+    code, stdout, stderr = invoke(
+        evaluate.command,
+        folder / "v2_texture_256x192_yuv420p.yuv",
+        folder / "v1_texture_256x192_yuv420p.yuv",
+    )
     assert code == 0, stderr
     (folder / "v1_against_v2.scores").write_text(stdout)
     # the 8-bit depth of camera 2 against its 16-bit truth: quantisation alone, below
     # 0.02 px of disparity towards camera 3 (fx 240 x baseline 0.1 / z, 1/z in 255 steps)
-    code, _, stderr = invoke(evaluate.command, "--depth", LINE / "v2_depth_256x192_gray16le.yuv",
-                             folder / "v2_depth_256x192_yuv420p.yuv", "--reference-range", 2, 13,
-                             "--test-range", 2, 13, "--cameras", LINE / "cameras.txt",
-                             "--camera", "cam2", "--neighbour", "cam3",
-                             "--json-file", folder / "v2_depth.errors.json")
+    code, _, stderr = invoke(
+        evaluate.command,
+        "--depth",
+        LINE / "v2_depth_256x192_gray16le.yuv",
+        folder / "v2_depth_256x192_yuv420p.yuv",
+        "--reference-range",
+        2,
+        13,
+        "--test-range",
+        2,
+        13,
+        "--cameras",
+        LINE / "cameras.txt",
+        "--camera",
+        "cam2",
+        "--neighbour",
+        "cam3",
+        "--json-file",
+        folder / "v2_depth.errors.json",
+    )
     assert code == 0, stderr
     return folder
 
@@ -78,8 +110,10 @@ def test_rate_distortion_runs_show_as_curves_not_pictures(tmp_path):
     run = tmp_path / "compression"
     (run / "packed").mkdir(parents=True)
     shutil.copy(LINE / "v2_texture_256x192_yuv420p.yuv", run / "packed")
-    points = [{"qp": qp, "kbps": rate, "mean_texture_yuv_psnr": psnr}
-              for qp, rate, psnr in ((22, 900.0, 44.0), (32, 300.0, 37.0))]
+    points = [
+        {"qp": qp, "kbps": rate, "mean_texture_yuv_psnr": psnr}
+        for qp, rate, psnr in ((22, 900.0, 44.0), (32, 300.0, 37.0))
+    ]
     (run / "report.json").write_text(json.dumps({"modes": {"simulcast": points}}))
     code, _, stderr = invoke(report.command, tmp_path)
     assert code == 0, stderr
@@ -102,8 +136,12 @@ def test_plots_place_points_where_the_values_say():
     assert f'fill="{colours[1]}">y</text>' in svg
     with pytest.raises(ValueError, match="more bars than the 1 series"):
         bar_plot({"a": [1.0, 2.0]}, y_label="%", series=["x"])
-    svg = line_plot({"s": [(100.0, 30.0), (1000.0, 40.0), (10000.0, 50.0)]}, x_label="kbit/s",
-                    y_label="dB", log_x=True)
+    svg = line_plot(
+        {"s": [(100.0, 30.0), (1000.0, 40.0), (10000.0, 50.0)]},
+        x_label="kbit/s",
+        y_label="dB",
+        log_x=True,
+    )
     xs = [float(x) for x in re.findall(r'<circle cx="([^"]+)"', svg)]
     # equal steps in log rate are equal steps across the plot
     assert xs[1] - xs[0] == pytest.approx(xs[2] - xs[1], abs=0.2)
@@ -111,17 +149,32 @@ def test_plots_place_points_where_the_values_say():
 
 @needs_chromium
 def test_every_picture_shows_in_a_browser(build, page, tmp_path):
-    options = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--no-first-run",
-               "--disable-background-networking", "--disable-component-update",
-               "--disable-sync", "--window-size=1200,2400"]
+    options = [
+        CHROMIUM,
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--window-size=1200,2400",
+    ]
     url = (build / "report.html").resolve().as_uri()
-    dom = subprocess.run([*options, f"--user-data-dir={tmp_path / 'profile1'}", "--dump-dom",
-                          url], capture_output=True, text=True, timeout=120).stdout
+    dom = subprocess.run(
+        [*options, f"--user-data-dir={tmp_path / 'profile1'}", "--dump-dom", url],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    ).stdout
     # the page's own count, once every picture has loaded
     assert re.search(r"<title>[^<]*: 6 of 6 pictures</title>", dom), dom[:300]
     screenshot = tmp_path / "report.png"
-    subprocess.run([*options, f"--user-data-dir={tmp_path / 'profile2'}",
-                    f"--screenshot={screenshot}", url], capture_output=True, timeout=120)
+    subprocess.run(
+        [*options, f"--user-data-dir={tmp_path / 'profile2'}", f"--screenshot={screenshot}", url],
+        capture_output=True,
+        timeout=120,
+    )
     picture = read_image(screenshot)
     assert picture.shape[:2] == (2400, 1200)
     # pictures, not an empty page: many distinct colours

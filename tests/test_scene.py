@@ -9,12 +9,34 @@ import pytest
 
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.projection import reproject
-from mvtools.scene import (Box, Checkerboard, ColorMismatch, Cylinder, NoiseTexture, Plane,
-                           Rectangle, Scene, Sphere, UniformTexture, arc_rig,
-                           axis_angle_rotation, board_poses, calibration_rig,
-                           capture_checkerboard, default_scene, distort_normalized, intrinsics,
-                           linear_rig, project_points, quantize, random_color_mismatches, render,
-                           sample_intrinsics, sample_rigs, undistort_normalized)
+from mvtools.scene import (
+    Box,
+    Checkerboard,
+    ColorMismatch,
+    Cylinder,
+    NoiseTexture,
+    Plane,
+    Rectangle,
+    Scene,
+    Sphere,
+    UniformTexture,
+    arc_rig,
+    axis_angle_rotation,
+    board_poses,
+    calibration_rig,
+    capture_checkerboard,
+    default_scene,
+    distort_normalized,
+    intrinsics,
+    linear_rig,
+    project_points,
+    quantize,
+    random_color_mismatches,
+    render,
+    sample_intrinsics,
+    sample_rigs,
+    undistort_normalized,
+)
 
 GREY = UniformTexture((0.5, 0.5, 0.5))
 
@@ -26,18 +48,21 @@ def _wall(z=10.0):
 def _camera(*, t=(0.0, 0.0, 0.0), R=None, distortion=(0.0, 0.0), size=(65, 49)):
     # Odd sizes with the principal point on the middle pixel centre.
     K = intrinsics(fx=200.0, cx=(size[0] - 1) / 2, cy=(size[1] - 1) / 2)
-    return Camera("c", K=K, R=np.eye(3) if R is None else R, t=t, distortion=distortion,
-                  size=size)
+    return Camera("c", K=K, R=np.eye(3) if R is None else R, t=t, distortion=distortion, size=size)
 
 
 # --------------------------------------------------------------------------- exact depth
 
-@pytest.mark.parametrize("t, distortion, expected", [
-    ((0.0, 0.0, 0.0), (0.0, 0.0), 5.0),
-    ((0.7, -0.3, 0.0), (0.0, 0.0), 5.0),
-    ((0.0, 0.0, 1.5), (0.0, 0.0), 3.5),
-    ((0.0, 0.0, 0.0), (-0.2, 0.05), 5.0),   # the lens does not change depth along the axis
-])
+
+@pytest.mark.parametrize(
+    "t, distortion, expected",
+    [
+        ((0.0, 0.0, 0.0), (0.0, 0.0), 5.0),
+        ((0.7, -0.3, 0.0), (0.0, 0.0), 5.0),
+        ((0.0, 0.0, 1.5), (0.0, 0.0), 3.5),
+        ((0.0, 0.0, 0.0), (-0.2, 0.05), 5.0),  # the lens does not change depth along the axis
+    ],
+)
 def test_fronto_parallel_plane_depth_is_exact(t, distortion, expected):
     camera = _camera(t=t, distortion=distortion)
     result = render(Scene([_wall(5.0)]), camera, samples=1)
@@ -55,34 +80,40 @@ def test_sphere_depth_at_its_centre_pixel():
     # Off the axis, centre (0.6, -0.48, 6) projects to u = 32 + 200 * 0.1 = 52,
     # v = 24 - 200 * 0.08 = 8; the ray through the centre meets the surface at
     # distance |C| - r, whose depth is (|C| - r) * Cz / |C|.
-    centre_distance = np.sqrt(0.6 ** 2 + 0.48 ** 2 + 6.0 ** 2)
-    off_axis = render(Scene([_wall(), Sphere("s", (0.6, -0.48, 6.0), 0.5, GREY)]), camera,
-                      samples=1)
-    assert off_axis.depth[8, 52] == pytest.approx((centre_distance - 0.5) * 6.0 / centre_distance,
-                                                  abs=1e-12)
+    centre_distance = np.sqrt(0.6**2 + 0.48**2 + 6.0**2)
+    off_axis = render(
+        Scene([_wall(), Sphere("s", (0.6, -0.48, 6.0), 0.5, GREY)]), camera, samples=1
+    )
+    assert off_axis.depth[8, 52] == pytest.approx(
+        (centre_distance - 0.5) * 6.0 / centre_distance, abs=1e-12
+    )
 
 
 def test_box_cylinder_and_slanted_rectangle_depths():
     camera = _camera()
-    box = render(Scene([_wall(), Box("b", (-0.5, -0.5, 4.0), (0.5, 0.5, 5.0), GREY)]), camera,
-                 samples=1)
+    box = render(
+        Scene([_wall(), Box("b", (-0.5, -0.5, 4.0), (0.5, 0.5, 5.0), GREY)]), camera, samples=1
+    )
     # Front face z = 4 over the box's image: |u - 32| <= 200 * 0.5 / 4 = 25 px.
     np.testing.assert_allclose(box.depth[24, 10:55], 4.0, atol=1e-12)
     assert box.depth[24, 5] == 10.0
-    cylinder = render(Scene([_wall(), Cylinder("c", (0, 0, 7.0), 1.0, -1.0, 1.0, GREY)]), camera,
-                      samples=1)
+    cylinder = render(
+        Scene([_wall(), Cylinder("c", (0, 0, 7.0), 1.0, -1.0, 1.0, GREY)]), camera, samples=1
+    )
     assert cylinder.depth[24, 32] == pytest.approx(6.0, abs=1e-12)
     # Column u has the ray (a z, 0, z), a = (u - 32) / 200; on the side
     # (a z)^2 + (z - 7)^2 = 1, so z = (7 - sqrt(49 - 48 (1 + a^2))) / (1 + a^2),
     # real up to a^2 = 1/48: column 60 (a = 0.14) hits, column 61 (a = 0.145) misses.
-    a2 = 0.1 ** 2
-    assert cylinder.depth[24, 52] == pytest.approx((7 - np.sqrt(49 - 48 * (1 + a2))) / (1 + a2),
-                                                   abs=1e-12)
+    a2 = 0.1**2
+    assert cylinder.depth[24, 52] == pytest.approx(
+        (7 - np.sqrt(49 - 48 * (1 + a2))) / (1 + a2), abs=1e-12
+    )
     assert cylinder.depth[24, 60] < 7.0 and cylinder.depth[24, 61] == 10.0
     # A rectangle turned 45 degrees about y: depth grows by 1 m per metre of x.
     turn = axis_angle_rotation((0, 1, 0), 45.0)
-    slanted = Rectangle("r", center=(0, 0, 4.0), half_u=turn @ [1.0, 0, 0], half_v=(0, 1.0, 0),
-                        texture=GREY)
+    slanted = Rectangle(
+        "r", center=(0, 0, 4.0), half_u=turn @ [1.0, 0, 0], half_v=(0, 1.0, 0), texture=GREY
+    )
     tilted = render(Scene([_wall(), slanted]), camera, samples=1)
     assert tilted.depth[24, 32] == pytest.approx(4.0, abs=1e-12)
     # Pixel u: x = z (u - 32) / 200 and z = 4 - x (plane x + z = 4), so z = 4 / (1 + (u - 32) / 200).
@@ -91,10 +122,18 @@ def test_box_cylinder_and_slanted_rectangle_depths():
 
 def test_moving_sphere_and_static_background():
     camera = _camera()
-    scene = Scene([Plane("wall", (0, 0, 10), (0, 0, -1), (1, 0, 0),
-                         NoiseTexture(seed=3, colors=((0.2, 0.3, 0.4), (0.9, 0.8, 0.6)),
-                                      frequency=2.0)),
-                   Sphere("s", (0, 0, 6), 0.5, GREY, velocity=(0.06, 0.0, 0.0))])
+    scene = Scene(
+        [
+            Plane(
+                "wall",
+                (0, 0, 10),
+                (0, 0, -1),
+                (1, 0, 0),
+                NoiseTexture(seed=3, colors=((0.2, 0.3, 0.4), (0.9, 0.8, 0.6)), frequency=2.0),
+            ),
+            Sphere("s", (0, 0, 6), 0.5, GREY, velocity=(0.06, 0.0, 0.0)),
+        ]
+    )
     first = render(scene, camera, frame=0, samples=2)
     third = render(scene, camera, frame=2, samples=2)
     # Frame 2: centre (0.12, 0, 6) projects to u = 32 + 200 * 0.12 / 6 = 36.
@@ -111,12 +150,18 @@ def test_moving_sphere_and_static_background():
 
 # --------------------------------------------------------------------------- lens model
 
+
 def test_projection_and_undistortion_agree_with_opencv():
     rng = np.random.default_rng(7)
     distortion = np.array([-0.12, 0.03, 0.001, -0.002, 0.004])
-    camera = Camera("c", K=[[610.0, 0.0, 330.0], [0.0, 605.0, 245.0], [0.0, 0.0, 1.0]],
-                    R=axis_angle_rotation((0.2, 1.0, -0.1), 12.0), t=(0.3, -0.1, -0.2),
-                    distortion=distortion, size=(640, 480))
+    camera = Camera(
+        "c",
+        K=[[610.0, 0.0, 330.0], [0.0, 605.0, 245.0], [0.0, 0.0, 1.0]],
+        R=axis_angle_rotation((0.2, 1.0, -0.1), 12.0),
+        t=(0.3, -0.1, -0.2),
+        distortion=distortion,
+        size=(640, 480),
+    )
     points = rng.uniform([-1.0, -0.8, 2.0], [1.0, 0.8, 4.0], size=(200, 3))
     uv, z = project_points(camera, points)
     rvec, _ = cv2.Rodrigues(camera.R)
@@ -126,11 +171,13 @@ def test_projection_and_undistortion_agree_with_opencv():
     # Inverse: our Newton iteration against OpenCV's iterative undistortion.
     xd, yd = rng.uniform(-0.5, 0.5, (2, 500))
     x, y = undistort_normalized(xd, yd, distortion)
-    np.testing.assert_allclose(np.stack(distort_normalized(x, y, distortion), -1),
-                               np.stack([xd, yd], -1), atol=1e-13)
+    np.testing.assert_allclose(
+        np.stack(distort_normalized(x, y, distortion), -1), np.stack([xd, yd], -1), atol=1e-13
+    )
     criteria = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 100, 1e-15)
-    reference = cv2.undistortPoints(np.stack([xd, yd], -1).reshape(-1, 1, 2), np.eye(3),
-                                    distortion, criteria=criteria).reshape(-1, 2)
+    reference = cv2.undistortPoints(
+        np.stack([xd, yd], -1).reshape(-1, 1, 2), np.eye(3), distortion, criteria=criteria
+    ).reshape(-1, 2)
     np.testing.assert_allclose(np.stack([x, y], -1), reference, atol=1e-9)
 
 
@@ -145,6 +192,7 @@ def test_undistortion_refuses_points_beyond_the_fold():
 
 # --------------------------------------------------------------------------- multiview
 
+
 def _consistency(view_a, view_b, ra, rb, depth=None):
     """Median |colour difference| (0-255) of A's pixels seen, unoccluded, by B,
     when A's pixels are moved into B with ``depth`` (default: the true depth)."""
@@ -152,16 +200,24 @@ def _consistency(view_a, view_b, ra, rb, depth=None):
     v, u = np.mgrid[0:height, 0:width].astype(np.float64)
     u2, v2, z2 = reproject(view_a, view_b, u, v, ra.depth)
     inside = (u2 >= 0) & (u2 <= width - 1) & (v2 >= 0) & (v2 <= height - 1)
-    depth_b = cv2.remap(rb.depth.astype(np.float32), u2.astype(np.float32),
-                        v2.astype(np.float32), cv2.INTER_NEAREST)
+    depth_b = cv2.remap(
+        rb.depth.astype(np.float32), u2.astype(np.float32), v2.astype(np.float32), cv2.INTER_NEAREST
+    )
     visible = inside & (np.abs(depth_b - z2) < 0.01 * z2)
     if depth is not None:
         u2, v2, _ = reproject(view_a, view_b, u, v, depth)
-    sampled = cv2.remap(rb.color.astype(np.float32), u2.astype(np.float32), v2.astype(np.float32),
-                        cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    sampled = cv2.remap(
+        rb.color.astype(np.float32),
+        u2.astype(np.float32),
+        v2.astype(np.float32),
+        cv2.INTER_LINEAR,
+        borderMode=cv2.BORDER_REPLICATE,
+    )
     # Anti-aliased colours at depth edges mix surfaces differently in each view.
-    edges = cv2.dilate((cv2.Laplacian(ra.depth.astype(np.float32), cv2.CV_32F) ** 2 > 1e-4)
-                       .astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
+    edges = cv2.dilate(
+        (cv2.Laplacian(ra.depth.astype(np.float32), cv2.CV_32F) ** 2 > 1e-4).astype(np.uint8),
+        np.ones((3, 3), np.uint8),
+    ).astype(bool)
     valid = visible & ~edges
     difference = np.abs(sampled - ra.color.astype(np.float32)).max(axis=-1)[valid] * 255.0
     return float(np.median(difference)), valid.mean()
@@ -174,19 +230,24 @@ def test_views_agree_through_exact_depth(rig, a, b):
     ra = render(scene, cameras[a], samples=3, frame=1)
     rb = render(scene, cameras[b], samples=3, frame=1)
     median, fraction = _consistency(cameras[a], cameras[b], ra, rb)
-    assert fraction > 0.6          # most of the view takes part
-    assert median < 2.0            # measured 0.54 (line) and 1.34 (arc)
+    assert fraction > 0.6  # most of the view takes part
+    assert median < 2.0  # measured 0.54 (line) and 1.34 (arc)
     # The check has teeth: 10 % too deep moves the samples by 0.5 to 2 px.
     wrong = _consistency(cameras[a], cameras[b], ra, rb, depth=ra.depth * 1.1)[0]
-    assert wrong > 4.0 * median    # measured 3.3 (line) and 11.1 (arc)
+    assert wrong > 4.0 * median  # measured 3.3 (line) and 11.1 (arc)
 
 
 def test_sample_rigs_stay_inside_the_scene_depth_range():
     scene = default_scene()
     rigs = sample_rigs(64, 48)
-    depths = np.concatenate([render(scene, camera, frame=frame, samples=1).depth.ravel()
-                             for cameras in rigs.values() for camera in cameras
-                             for frame in (0, 2)])
+    depths = np.concatenate(
+        [
+            render(scene, camera, frame=frame, samples=1).depth.ravel()
+            for cameras in rigs.values()
+            for camera in cameras
+            for frame in (0, 2)
+        ]
+    )
     assert np.all(np.isfinite(depths))
     # Measured 2.44 .. 11.13: the bounds 2 .. 13 keep a margin on both sides.
     assert scene.znear < depths.min() < 1.1 * 2.44
@@ -226,6 +287,7 @@ def test_color_mismatch_round_trip():
 
 # --------------------------------------------------------------------------- checkerboard
 
+
 def _detect(image, pattern):
     found, corners = cv2.findChessboardCorners(image, pattern)
     assert found
@@ -245,23 +307,28 @@ def test_board_rendering_matches_an_independent_rendering():
     camera = _camera(size=(320, 240))
     rotation = axis_angle_rotation((0, 0, 1), 9.0)
     translation = np.array([0.0, 0.0, 0.8]) - rotation @ board.center
-    captured = capture_checkerboard([camera], board, rotation[None], translation[None],
-                                    samples=8, noise=0.0)
+    captured = capture_checkerboard(
+        [camera], board, rotation[None], translation[None], samples=8, noise=0.0
+    )
     # The same 8 x 8 sub-pixel grid, board coordinates by hand: fronto-parallel
     # at z = 0.8, so X = 0.8 (u - cx) / f, then the inverse of the rotation.
     offsets = (np.arange(8) + 0.5) / 8 - 0.5
     v, u = np.mgrid[0:240, 0:320].astype(float)
-    su = np.broadcast_to(u[..., None, None] + offsets[None, :], (240, 320, 8, 8)).reshape(240, 320, 64)
-    sv = np.broadcast_to(v[..., None, None] + offsets[:, None], (240, 320, 8, 8)).reshape(240, 320, 64)
+    su = np.broadcast_to(u[..., None, None] + offsets[None, :], (240, 320, 8, 8)).reshape(
+        240, 320, 64
+    )
+    sv = np.broadcast_to(v[..., None, None] + offsets[:, None], (240, 320, 8, 8)).reshape(
+        240, 320, 64
+    )
     world = np.stack([0.8 * (su - 159.5) / 200, 0.8 * (sv - 119.5) / 200], -1)
     local = (world - translation[:2]) @ rotation[:2, :2]
     col, row = local[..., 0] / 0.05, local[..., 1] / 0.05
     squares = (col >= -1) & (col < 9) & (row >= -1) & (row < 6)
-    on_board = (col >= -1.8) & (col <= 9.8) & (row >= -1.8) & (row <= 6.8)   # 0.04 m border
+    on_board = (col >= -1.8) & (col <= 9.8) & (row >= -1.8) & (row <= 6.8)  # 0.04 m border
     grey = np.where(squares & ((np.floor(col) + np.floor(row)) % 2 == 0), 0.08, 0.92)
     grey = np.where(on_board, grey, 0.45).mean(axis=-1)
     difference = np.abs(captured.images[0, 0].astype(int) - quantize(grey).astype(int))
-    assert difference.max() <= 1           # adaptive sampling equals full sampling
+    assert difference.max() <= 1  # adaptive sampling equals full sampling
     assert np.count_nonzero(difference) < 0.001 * difference.size
 
 
@@ -286,7 +353,7 @@ def test_checkerboard_truth_matches_detected_corners(calibration_captures):
     # 16x-supersampled rendering of a fronto-parallel board; tilt, lens
     # distortion and the 1-level noise add a little. Measured here: RMS 0.060,
     # max 0.14, mean 0.002. A half-pixel convention slip would show as 0.5.
-    assert np.sqrt(np.mean(distance ** 2)) < 0.1
+    assert np.sqrt(np.mean(distance**2)) < 0.1
     assert distance.max() < 0.25
     assert np.all(np.abs(errors.mean(axis=0)) < 0.02)
 
@@ -315,16 +382,21 @@ def _row_residual(points, pattern):
 
 def test_undistortion_straightens_board_rows():
     board = Checkerboard()
-    camera = Camera("c", K=intrinsics(fx=560.0, cx=322.0, cy=236.0),
-                    distortion=(-0.1, 0.01, 0.0, 0.0), size=(640, 480))
+    camera = Camera(
+        "c",
+        K=intrinsics(fx=560.0, cx=322.0, cy=236.0),
+        distortion=(-0.1, 0.01, 0.0, 0.0),
+        size=(640, 480),
+    )
     rotation = axis_angle_rotation((1, 0.4, 0), 15.0) @ axis_angle_rotation((0, 0, 1), 3.0)
     translation = np.array([0.0, 0.0, 0.62]) - rotation @ board.center
     captured = capture_checkerboard([camera], board, rotation[None], translation[None], noise=1.0)
     criteria = (cv2.TERM_CRITERIA_COUNT | cv2.TERM_CRITERIA_EPS, 100, 1e-15)
 
     def straightened(points):
-        return cv2.undistortPoints(points.reshape(-1, 1, 2), camera.K, camera.distortion,
-                                   P=camera.K, criteria=criteria).reshape(-1, 2)
+        return cv2.undistortPoints(
+            points.reshape(-1, 1, 2), camera.K, camera.distortion, P=camera.K, criteria=criteria
+        ).reshape(-1, 2)
 
     truth = captured.corners[0, 0]
     detected = _detect(captured.images[0, 0], board.inner_corners)
@@ -339,6 +411,7 @@ def test_undistortion_straightens_board_rows():
 
 # --------------------------------------------------------------------------- determinism
 
+
 def test_rendering_is_deterministic():
     scene = default_scene(seed=5)
     camera = sample_rigs(64, 48)["distorted"][3]
@@ -348,13 +421,14 @@ def test_rendering_is_deterministic():
         np.testing.assert_array_equal(getattr(first, key), getattr(second, key))
     other = render(default_scene(seed=6), camera, frame=2, samples=2)
     assert not np.array_equal(first.color, other.color)
-    np.testing.assert_array_equal(first.depth, other.depth)   # the seed changes textures only
+    np.testing.assert_array_equal(first.depth, other.depth)  # the seed changes textures only
 
 
 def test_captures_are_deterministic():
     cameras = calibration_rig(seed=3, size=(160, 120), focal=140.0)
-    assert [c.K.tolist() for c in cameras] == [c.K.tolist() for c in calibration_rig(
-        seed=3, size=(160, 120), focal=140.0)]
+    assert [c.K.tolist() for c in cameras] == [
+        c.K.tolist() for c in calibration_rig(seed=3, size=(160, 120), focal=140.0)
+    ]
     board = Checkerboard()
     rotations, translations = board_poses(2, cameras, board, seed=1)
     again = board_poses(2, cameras, board, seed=1)
@@ -367,12 +441,30 @@ def test_captures_are_deterministic():
 
 # --------------------------------------------------------------------------- the program
 
+
 def _run_scene(folder, *extra):
     from click.testing import CliRunner
 
     from mvtools.cli.main import cli
-    args = ["scene", str(folder), "--width", "64", "--height", "48", "--frames", "2",
-            "--views", "3", "--captures", "2", "--capture-size", "160", "120", *extra]
+
+    args = [
+        "scene",
+        str(folder),
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--frames",
+        "2",
+        "--views",
+        "3",
+        "--captures",
+        "2",
+        "--capture-size",
+        "160",
+        "120",
+        *extra,
+    ]
     return CliRunner().invoke(cli, args)
 
 
@@ -395,8 +487,12 @@ def test_scene_program_writes_the_ground_truth(sample_folder):
     line = sample_folder / "line"
     assert sorted(p.name for p in line.iterdir()) == sorted(
         ["cameras.txt", "cameras.json", "synthesize_cam1.cfg", "depth_cam1.cfg"]
-        + [f"v{i}_{kind}_64x48_{fmt}.yuv" for i in range(3)
-           for kind, fmt in (("texture", "yuv420p"), ("depth", "yuv420p"), ("depth", "gray16le"))])
+        + [
+            f"v{i}_{kind}_64x48_{fmt}.yuv"
+            for i in range(3)
+            for kind, fmt in (("texture", "yuv420p"), ("depth", "yuv420p"), ("depth", "gray16le"))
+        ]
+    )
     scene = default_scene()
     truth = sample_rigs(64, 48, n=3)["line"]
     cameras = read_cameras(line / "cameras.txt")
@@ -424,13 +520,18 @@ def test_scene_program_writes_the_ground_truth(sample_folder):
     assert np.abs(luma - expected_luma).max() <= 0.5 + 1e-9
     vsrs = load_params(VsrsParams, read_config(line / "synthesize_cam1.cfg"))
     assert (vsrs.left_camera_name, vsrs.virtual_camera_name, vsrs.right_camera_name) == (
-        "cam0", "cam1", "cam2")
+        "cam0",
+        "cam1",
+        "cam2",
+    )
     assert vsrs.synthesis_mode == 1 and vsrs.left_depth_range == (2.0, 13.0)
     assert (line / vsrs.left_depth_map_name).exists()
     ders = load_params(DersParams, read_config(line / "depth_cam1.cfg"))
     # f B / z over [2, 13] with f = 60 px, B = 0.1 m: [0.46, 3] -> [0, 3].
-    assert (ders.minimum_value_of_disparity_search_range,
-            ders.maximum_value_of_disparity_search_range) == (0, 3)
+    assert (
+        ders.minimum_value_of_disparity_search_range,
+        ders.maximum_value_of_disparity_search_range,
+    ) == (0, 3)
     arc = load_params(VsrsParams, read_config(sample_folder / "arc" / "synthesize_cam1.cfg"))
     assert arc.synthesis_mode == 0
 
@@ -440,6 +541,7 @@ def test_scene_program_writes_distortion_and_calibration_truth(sample_folder):
 
     from mvtools.io.cameras import read_cameras
     from mvtools.io.images import read_image
+
     distorted = read_cameras(sample_folder / "distorted" / "cameras.txt")
     assert all(np.any(camera.distortion != 0) for camera in distorted.values())
     truth = json.loads((sample_folder / "truth.json").read_text())
@@ -450,11 +552,16 @@ def test_scene_program_writes_distortion_and_calibration_truth(sample_folder):
     board = json.loads((sample_folder / "checkerboard" / "truth.json").read_text())
     assert len(board["cameras"]) == 3 and len(board["captures"]) == 2
     capture = board["captures"][1]
-    camera = Camera(**{k: v for k, v in board["cameras"][0].items() if k != "size"},
-                    size=tuple(board["cameras"][0]["size"]))
-    points = Checkerboard().object_points() @ np.array(capture["rotation"]).T + capture["translation"]
-    np.testing.assert_allclose(capture["corners"]["cam0"], project_points(camera, points)[0],
-                               atol=1e-9)
+    camera = Camera(
+        **{k: v for k, v in board["cameras"][0].items() if k != "size"},
+        size=tuple(board["cameras"][0]["size"]),
+    )
+    points = (
+        Checkerboard().object_points() @ np.array(capture["rotation"]).T + capture["translation"]
+    )
+    np.testing.assert_allclose(
+        capture["corners"]["cam0"], project_points(camera, points)[0], atol=1e-9
+    )
     image = read_image(sample_folder / "checkerboard" / "cam0" / "capture01.png")
     assert image.shape == (120, 160) and image.dtype == np.uint8
 

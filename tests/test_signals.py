@@ -23,9 +23,13 @@ from pathlib import Path
 import pytest
 
 LINE = Path(__file__).resolve().parent.parent / "sample_data" / "line"
-INPUTS = ("v1_texture_256x192_yuv420p.yuv", "v3_texture_256x192_yuv420p.yuv",
-          "v1_depth_256x192_yuv420p.yuv", "v3_depth_256x192_yuv420p.yuv")
-REPEATS = 200       # 600 frames: tens of seconds, far longer than the wait for the signal
+INPUTS = (
+    "v1_texture_256x192_yuv420p.yuv",
+    "v3_texture_256x192_yuv420p.yuv",
+    "v1_depth_256x192_yuv420p.yuv",
+    "v3_depth_256x192_yuv420p.yuv",
+)
+REPEATS = 200  # 600 frames: tens of seconds, far longer than the wait for the signal
 OUTPUT = "out_256x192_yuv420p.yuv"
 EARLIER = b"the output of an earlier run"
 
@@ -41,15 +45,18 @@ def long_rig(tmp_path_factory):
 
 
 SIGNALS = pytest.mark.parametrize(
-    "signum, exit_code, word", [(signal.SIGINT, 130, "interrupted"),
-                                (signal.SIGTERM, 143, "terminated")], ids=["SIGINT", "SIGTERM"])
+    "signum, exit_code, word",
+    [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")],
+    ids=["SIGINT", "SIGTERM"],
+)
 
 
 def _signal_once_writing(command, folder, output, signum, *, after=0.0, env=None):
     """Run ``command`` in ``folder``; send ``signum`` ``after`` seconds from the moment
     the temporary file of ``output`` exists. Returns the exit code and stderr."""
-    process = subprocess.Popen(command, cwd=folder, stdout=subprocess.PIPE,
-                               stderr=subprocess.PIPE, text=True, env=env)
+    process = subprocess.Popen(
+        command, cwd=folder, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
+    )
     try:
         deadline = time.monotonic() + 60
         while not list(folder.glob(f".{output}.*")):
@@ -73,18 +80,33 @@ def _assert_ended_cleanly(returncode, err, exit_code, word):
 
 @pytest.mark.parametrize("kernels", ["compiled", "compiling"])
 @SIGNALS
-def test_a_signalled_run_removes_its_temporary_output(long_rig, tmp_path, kernels, signum,
-                                                      exit_code, word):
+def test_a_signalled_run_removes_its_temporary_output(
+    long_rig, tmp_path, kernels, signum, exit_code, word
+):
     (long_rig / OUTPUT).write_bytes(EARLIER)
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path)) if kernels == "compiling" else None
     returncode, err = _signal_once_writing(
-        [sys.executable, "-m", "mvtools", "synthesize", "synthesize_cam2.cfg",
-         f"TotalNumberOfFrames={3 * REPEATS}", "-o", OUTPUT], long_rig, OUTPUT, signum,
-        after=0.5 if kernels == "compiling" else 0.0, env=env)
+        [
+            sys.executable,
+            "-m",
+            "mvtools",
+            "synthesize",
+            "synthesize_cam2.cfg",
+            f"TotalNumberOfFrames={3 * REPEATS}",
+            "-o",
+            OUTPUT,
+        ],
+        long_rig,
+        OUTPUT,
+        signum,
+        after=0.5 if kernels == "compiling" else 0.0,
+        env=env,
+    )
     _assert_ended_cleanly(returncode, err, exit_code, word)
     assert (long_rig / OUTPUT).read_bytes() == EARLIER
     assert sorted(path.name for path in long_rig.iterdir()) == sorted(
-        [*INPUTS, "synthesize_cam2.cfg", "cameras.txt", OUTPUT])
+        [*INPUTS, "synthesize_cam2.cfg", "cameras.txt", OUTPUT]
+    )
 
 
 #: A program whose run spends its time in Python code called back from C (qsort's
@@ -112,7 +134,8 @@ main()
 
 @SIGNALS
 def test_a_signal_ends_a_run_inside_a_callback_from_c(tmp_path, signum, exit_code, word):
-    returncode, err = _signal_once_writing([sys.executable, "-c", IN_A_C_CALLBACK], tmp_path,
-                                           "out.bin", signum, after=0.2)
+    returncode, err = _signal_once_writing(
+        [sys.executable, "-c", IN_A_C_CALLBACK], tmp_path, "out.bin", signum, after=0.2
+    )
     _assert_ended_cleanly(returncode, err, exit_code, word)
     assert list(tmp_path.iterdir()) == []

@@ -8,15 +8,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from shared_data import shared_data
 
 from mvtools.color.space import upsample_chroma
 from mvtools.geometry.camera import Camera
-from mvtools.geometry.depth import depth_to_z
+from mvtools.geometry.depth import depth_to_z, inverse_depth_step
 from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import read_frame
-from mvtools.geometry.depth import inverse_depth_step
 from mvtools.synthesis.general import GeneralWarper
 from mvtools.synthesis.oned import OneDWarper, TemporalDepthFilter, merge_1d, warp_1d
 from mvtools.synthesis.views import ReferenceView, WarpedView
@@ -77,28 +75,41 @@ def test_right_reference_shifts_the_other_way():
     assert warped.holes[:, :2].all() and not warped.holes[:, 2:].any()
 
 
-@pytest.mark.parametrize("disparity, precision, filter, taps", [
-    (2.25, 4, "bilinear", {2: 0.75, 3: 0.25}),                # v + 2.25 exactly
-    (2.3, 4, "bilinear", {2: 0.75, 3: 0.25}),                 # rounded to v + 2.25
-    (2.3, 2, "bilinear", {2: 0.5, 3: 0.5}),                   # rounded to v + 2.5
-    (2.3, 1, "bilinear", {2: 1.0}),                           # rounded to v + 2
-    (2.6, 2, "bicubic", {1: -1 / 16, 2: 9 / 16, 3: 9 / 16, 4: -1 / 16}),   # Catmull-Rom, half
-    # The finer precisions of mvtools (rows upsampled to 8 and 16 phases).
-    (2.125, 8, "bilinear", {2: 7 / 8, 3: 1 / 8}),             # v + 2 + 1/8 exactly
-    (2.2, 8, "bilinear", {2: 0.75, 3: 0.25}),                 # rounded to v + 2 + 2/8
-    (2.2, 16, "bilinear", {2: 13 / 16, 3: 3 / 16}),           # rounded to v + 2 + 3/16
-    (2.875, 16, "bilinear", {2: 1 / 8, 3: 7 / 8}),            # v + 2 + 14/16 exactly
-    (2.125, 8, "bicubic", {1: -49 / 1024, 2: 987 / 1024, 3: 93 / 1024, 4: -7 / 1024}),
-    # AVC 6-tap at 3/8: 1/4 of the integer sample plus 3/4 of the half-pel one.
-    (2.375, 8, "avc6", {0: 3 / 128, 1: -15 / 128, 2: 92 / 128, 3: 60 / 128, 4: -15 / 128,
-                        5: 3 / 128}),
-])
+@pytest.mark.parametrize(
+    "disparity, precision, filter, taps",
+    [
+        (2.25, 4, "bilinear", {2: 0.75, 3: 0.25}),  # v + 2.25 exactly
+        (2.3, 4, "bilinear", {2: 0.75, 3: 0.25}),  # rounded to v + 2.25
+        (2.3, 2, "bilinear", {2: 0.5, 3: 0.5}),  # rounded to v + 2.5
+        (2.3, 1, "bilinear", {2: 1.0}),  # rounded to v + 2
+        (2.6, 2, "bicubic", {1: -1 / 16, 2: 9 / 16, 3: 9 / 16, 4: -1 / 16}),  # Catmull-Rom, half
+        # The finer precisions of mvtools (rows upsampled to 8 and 16 phases).
+        (2.125, 8, "bilinear", {2: 7 / 8, 3: 1 / 8}),  # v + 2 + 1/8 exactly
+        (2.2, 8, "bilinear", {2: 0.75, 3: 0.25}),  # rounded to v + 2 + 2/8
+        (2.2, 16, "bilinear", {2: 13 / 16, 3: 3 / 16}),  # rounded to v + 2 + 3/16
+        (2.875, 16, "bilinear", {2: 1 / 8, 3: 7 / 8}),  # v + 2 + 14/16 exactly
+        (2.125, 8, "bicubic", {1: -49 / 1024, 2: 987 / 1024, 3: 93 / 1024, 4: -7 / 1024}),
+        # AVC 6-tap at 3/8: 1/4 of the integer sample plus 3/4 of the half-pel one.
+        (
+            2.375,
+            8,
+            "avc6",
+            {0: 3 / 128, 1: -15 / 128, 2: 92 / 128, 3: 60 / 128, 4: -15 / 128, 5: 3 / 128},
+        ),
+    ],
+)
 def test_sub_pixel_disparity_fetches_the_rounded_position(disparity, precision, filter, taps):
     color = texture(3, 32)
     for splatting in (0, 1):
-        warped = warp(LEFT, color, np.full((3, 32), depth_of(disparity)), precision=precision,
-                      filter=filter, splatting=splatting)
-        expected = sum(weight * color[:, offset:offset + 27] for offset, weight in taps.items())
+        warped = warp(
+            LEFT,
+            color,
+            np.full((3, 32), depth_of(disparity)),
+            precision=precision,
+            filter=filter,
+            splatting=splatting,
+        )
+        expected = sum(weight * color[:, offset : offset + 27] for offset, weight in taps.items())
         np.testing.assert_allclose(warped.color[:, :27], expected, rtol=0, atol=1e-3)
         np.testing.assert_allclose(warped.z[:, :27], depth_of(disparity))
 
@@ -150,8 +161,11 @@ def cracks(virtual_columns, stretch, shift):
     Pixel x covers u - 1/2 <= v < u + 1/2, so v is covered when some integer x has
     v - 1/2 < stretch x - shift <= v + 1/2.
     """
-    return [v for v in virtual_columns
-            if np.floor((v + 0.5 + shift) / stretch) <= (v - 0.5 + shift) / stretch]
+    return [
+        v
+        for v in virtual_columns
+        if np.floor((v + 0.5 + shift) / stretch) <= (v - 0.5 + shift) / stretch
+    ]
 
 
 def test_splatting_closes_the_cracks_of_a_stretched_surface():
@@ -159,11 +173,9 @@ def test_splatting_closes_the_cracks_of_a_stretched_surface():
     # 0.03 keeps footprint ends off pixel centres).
     disparity = np.tile(8.03 - 0.1 * np.arange(60), (2, 1))
     color = texture(2, 60)
-    points = warp(LEFT, color, depth_of(disparity), precision=4, filter="bilinear",
-                  splatting=0)
-    splats = warp(LEFT, color, depth_of(disparity), precision=4, filter="bilinear",
-                  splatting=1)
-    inside = np.arange(3, 56)          # reference 10 (u = 2.97) .. 58 (u = 55.77)
+    points = warp(LEFT, color, depth_of(disparity), precision=4, filter="bilinear", splatting=0)
+    splats = warp(LEFT, color, depth_of(disparity), precision=4, filter="bilinear", splatting=1)
+    inside = np.arange(3, 56)  # reference 10 (u = 2.97) .. 58 (u = 55.77)
     expected_cracks = cracks(inside, 1.1, 8.03)
     assert len(expected_cracks) >= 4
     assert list(inside[points.holes[0, inside]]) == expected_cracks
@@ -207,8 +219,9 @@ def test_warp_enhancement_fills_a_one_pixel_crack():
     color = texture(2, 40)
     plain = warp(LEFT, color, depth_of(disparity), precision=1, splatting=0)
     assert plain.holes[:, 17].all() and not plain.holes[:, :17].any()
-    enhanced = warp(LEFT, color, depth_of(disparity), precision=1, splatting=0,
-                    warp_enhancement=True)
+    enhanced = warp(
+        LEFT, color, depth_of(disparity), precision=1, splatting=0, warp_enhancement=True
+    )
     assert not enhanced.holes[:, :37].any()
     np.testing.assert_allclose(enhanced.color[:, 17], (color[:, 19] + color[:, 20]) / 2)
     np.testing.assert_allclose(enhanced.z[:, 17], FX / 2.5)
@@ -224,8 +237,9 @@ def test_warp_enhancement_replaces_a_background_pixel_seen_through_a_crack():
     color = texture(2, 40)
     plain = warp(LEFT, color, depth_of(disparity), precision=1, splatting=0)
     np.testing.assert_array_equal(plain.color[:, 15], color[:, 17])
-    enhanced = warp(LEFT, color, depth_of(disparity), precision=1, splatting=0,
-                    warp_enhancement=True)
+    enhanced = warp(
+        LEFT, color, depth_of(disparity), precision=1, splatting=0, warp_enhancement=True
+    )
     np.testing.assert_allclose(enhanced.color[:, 15], (color[:, 22] + color[:, 23]) / 2)
     np.testing.assert_allclose(enhanced.z[:, 15], FX / 7.5)
 
@@ -238,8 +252,14 @@ def test_warp_enhancement_leaves_wider_gaps_and_depth_edges(far):
     color = texture(2, 40)
     for splatting in (0, 1):
         plain = warp(LEFT, color, depth_of(disparity), precision=1, splatting=splatting)
-        enhanced = warp(LEFT, color, depth_of(disparity), precision=1, splatting=splatting,
-                        warp_enhancement=True)
+        enhanced = warp(
+            LEFT,
+            color,
+            depth_of(disparity),
+            precision=1,
+            splatting=splatting,
+            warp_enhancement=True,
+        )
         assert plain.holes[:, 17].all()
         np.testing.assert_array_equal(enhanced.z, plain.z)
         np.testing.assert_array_equal(enhanced.color, plain.color)
@@ -250,14 +270,25 @@ def test_one_dimensional_mode_matches_the_general_mode_on_rectified_cameras(prec
     cameras = read_cameras(SAMPLE_LINE / "cameras.txt")
     texture_planes = read_frame(SAMPLE_LINE / "v1_texture_256x192_yuv420p.yuv")
     values = read_frame(SAMPLE_LINE / "v1_depth_256x192_gray16le.yuv")[0]
-    view = ReferenceView(cameras["cam1"],
-                         np.stack(upsample_chroma(texture_planes), axis=-1).astype(np.float32),
-                         depth_to_z(values, 2.0, 13.0, bits=16))
+    view = ReferenceView(
+        cameras["cam1"],
+        np.stack(upsample_chroma(texture_planes), axis=-1).astype(np.float32),
+        depth_to_z(values, 2.0, 13.0, bits=16),
+    )
     general = GeneralWarper(cameras["cam1"], cameras["cam2"], size=(256, 192)).warp(
-        view, precision=precision, filter="bicubic")
-    oned = warp_1d(view, cameras["cam2"], left_camera=cameras["cam1"], size=(256, 192),
-                   precision=precision, filter="bicubic", splatting=1, clean_noise=False,
-                   warp_enhancement=False)
+        view, precision=precision, filter="bicubic"
+    )
+    oned = warp_1d(
+        view,
+        cameras["cam2"],
+        left_camera=cameras["cam1"],
+        size=(256, 192),
+        precision=precision,
+        filter="bicubic",
+        splatting=1,
+        clean_noise=False,
+        warp_enhancement=False,
+    )
     both = ~general.holes & ~oned.holes
     difference = np.abs(general.color - oned.color)[both]
     assert np.median(difference) <= 1.0 and difference.mean() < 0.5
@@ -265,7 +296,7 @@ def test_one_dimensional_mode_matches_the_general_mode_on_rectified_cameras(prec
     # And both are the real view 2 where they see it (a synthetic scene, exact depth).
     real = read_frame(SAMPLE_LINE / "v2_texture_256x192_yuv420p.yuv")[0].astype(np.float64)
     error = oned.color[..., 0][~oned.holes] - real[~oned.holes]
-    assert 10 * np.log10(255.0 ** 2 / np.mean(error ** 2)) > 38.0
+    assert 10 * np.log10(255.0**2 / np.mean(error**2)) > 38.0
 
 
 def test_cones_warped_and_merged_in_1d_mode():
@@ -276,15 +307,21 @@ def test_cones_warped_and_merged_in_1d_mode():
     warped = []
     for name in ("im2", "im6"):
         color = np.stack(upsample_chroma(case.yuv[name]), axis=-1).astype(np.float32)
-        warper = OneDWarper(case.cameras[name], case.cameras["im4"], size=case.size,
-                            left_camera=case.cameras["im2"])
-        warped.append(warper.warp(ReferenceView(case.cameras[name], color, case.z[name]),
-                                  precision=2, filter="bicubic"))
+        warper = OneDWarper(
+            case.cameras[name], case.cameras["im4"], size=case.size, left_camera=case.cameras["im2"]
+        )
+        warped.append(
+            warper.warp(
+                ReferenceView(case.cameras[name], color, case.z[name]),
+                precision=2,
+                filter="bicubic",
+            )
+        )
     merged = merge_1d(*warped, weights=(0.5, 0.5), depth_range=case.depth_range)
     truth = case.yuv["im4"][0].astype(np.float64)
     seen = ~merged.holes
     error = merged.color[..., 0][seen] - truth[seen]
-    assert 10 * np.log10(255.0 ** 2 / np.mean(error ** 2)) > 30.0
+    assert 10 * np.log10(255.0**2 / np.mean(error**2)) > 30.0
     assert merged.holes.mean() < 0.015
     assert merged.z.shape == (height, width)
 
@@ -300,29 +337,47 @@ def view(color, z):
 def test_z_buffer_merging_takes_the_nearer_view():
     z_left = np.array([[100.0, 50.0, 70.0, np.inf, 80.0, np.inf]])
     z_right = np.array([[50.0, 100.0, 70.0, 60.0, np.inf, np.inf]])
-    merged = merge_1d(view(10.0, z_left), view(200.0, z_right), weights=(0.5, 0.5), merging=0,
-                      depth_range=(40.0, 1000.0))
+    merged = merge_1d(
+        view(10.0, z_left),
+        view(200.0, z_right),
+        weights=(0.5, 0.5),
+        merging=0,
+        depth_range=(40.0, 1000.0),
+    )
     np.testing.assert_array_equal(merged.color[0, :, 0], [200, 10, 10, 200, 10, 0])
     np.testing.assert_array_equal(merged.z[0], [50, 50, 70, 60, 80, np.inf])
 
 
 def test_averaging_merging_weights_colours_and_inverse_depths():
-    merged = merge_1d(view(10.0, [[100.0, np.inf]]), view(200.0, [[50.0, 60.0]]),
-                      weights=(1.0, 3.0), merging=1, depth_range=(40.0, 1000.0))
+    merged = merge_1d(
+        view(10.0, [[100.0, np.inf]]),
+        view(200.0, [[50.0, 60.0]]),
+        weights=(1.0, 3.0),
+        merging=1,
+        depth_range=(40.0, 1000.0),
+    )
     np.testing.assert_allclose(merged.color[0, 0], 0.25 * 10 + 0.75 * 200)
     np.testing.assert_allclose(merged.z[0, 0], 1 / (0.25 / 100 + 0.75 / 50))
     np.testing.assert_allclose(merged.color[0, 1], 200.0)
     assert merged.z[0, 1] == 60.0
 
 
-@pytest.mark.parametrize("values, averaged", [((100, 174), True), ((100, 176), False),
-                                              ((100, 110), True), ((200, 100), False)])
+@pytest.mark.parametrize(
+    "values, averaged",
+    [((100, 174), True), ((100, 176), False), ((100, 110), True), ((200, 100), False)],
+)
 def test_adaptive_merging_switches_on_the_depth_threshold(values, averaged):
     depth_range = (50.0, 1000.0)
     step = inverse_depth_step(depth_range)
     z_left, z_right = (1.0 / (1.0 / 1000.0 + v * step) for v in values)
-    merged = merge_1d(view(10.0, [[z_left]]), view(200.0, [[z_right]]), weights=(0.5, 0.5),
-                      merging=2, depth_threshold=75, depth_range=depth_range)
+    merged = merge_1d(
+        view(10.0, [[z_left]]),
+        view(200.0, [[z_right]]),
+        weights=(0.5, 0.5),
+        merging=2,
+        depth_threshold=75,
+        depth_range=depth_range,
+    )
     if averaged:
         np.testing.assert_allclose(merged.color[0, 0], 105.0)
         np.testing.assert_allclose(1 / merged.z[0, 0], 0.5 / z_left + 0.5 / z_right)
@@ -340,17 +395,23 @@ def test_adaptive_merging_takes_the_view_with_fewer_holes_around(holes, one_view
     window = [(y, x) for y in range(1, 8) for x in range(1, 8) if (y, x) != (4, 4)]
     for y, x in window[:holes]:
         z_left[y, x] = np.inf
-    merged = merge_1d(view(10.0, z_left), view(200.0, np.full((9, 9), 101.0)),
-                      weights=(0.5, 0.5), merging=2, hole_count_threshold=30,
-                      depth_range=(50.0, 1000.0))
+    merged = merge_1d(
+        view(10.0, z_left),
+        view(200.0, np.full((9, 9), 101.0)),
+        weights=(0.5, 0.5),
+        merging=2,
+        hole_count_threshold=30,
+        depth_range=(50.0, 1000.0),
+    )
     np.testing.assert_allclose(merged.color[4, 4], 200.0 if one_view else 105.0)
 
 
 def test_merge_may_write_into_an_input():
     left = view(10.0, [[100.0, np.inf, 50.0]])
     right = view(200.0, [[100.0, 80.0, np.inf]])
-    merged = merge_1d(left, right, weights=(0.5, 0.5), merging=1,
-                      depth_range=(40.0, 1000.0), out=left)
+    merged = merge_1d(
+        left, right, weights=(0.5, 0.5), merging=1, depth_range=(40.0, 1000.0), out=left
+    )
     assert merged is left
     np.testing.assert_allclose(merged.color[0, :, 1], [105.0, 200.0, 10.0])
     np.testing.assert_allclose(merged.z[0], [100.0, 80.0, 50.0])
@@ -366,7 +427,7 @@ def test_temporal_filter_smooths_static_blocks_and_leaves_moving_ones():
     temporal = TemporalDepthFilter()
     np.testing.assert_array_equal(temporal.apply(z1, color), z1)
     moved = color.copy()
-    moved[20:24, 20:24] += 50.0            # block (5, 5) changes
+    moved[20:24, 20:24] += 50.0  # block (5, 5) changes
     second = temporal.apply(z2, moved)
     # Moving: blocks 3..7 in both directions (2 around the changed one), pixels 12..31.
     moving = np.zeros((40, 44), dtype=bool)
@@ -398,7 +459,7 @@ def test_temporal_filter_on_odd_sizes_and_after_a_size_change():
     temporal = TemporalDepthFilter()
     temporal.apply(np.full((21, 43), 100.0), color)
     changed = color.copy()
-    changed[20, 40:] += 100.0                 # the partial corner block (5, 10) moves
+    changed[20, 40:] += 100.0  # the partial corner block (5, 10) moves
     result = temporal.apply(np.full((21, 43), 200.0), changed)
     moving = np.zeros((21, 43), dtype=bool)
     moving[12:, 32:] = True

@@ -14,11 +14,10 @@ from shared_data import shared_data
 from mvtools.color.space import downsample_chroma, upsample_chroma
 from mvtools.datasets import cones_multiview
 from mvtools.geometry.camera import Camera
-from mvtools.geometry.depth import depth_to_z, z_to_depth
+from mvtools.geometry.depth import depth_to_z, inverse_depth_step, z_to_depth
 from mvtools.metrics import psnr
 from mvtools.scene import NoiseTexture, Plane, Rectangle, Scene, linear_rig, render
 from mvtools.scene.rigs import sample_intrinsics
-from mvtools.geometry.depth import inverse_depth_step
 from mvtools.synthesis.blend import merge_views, view_weights
 from mvtools.synthesis.boundary import boundary_noise, remove_boundary_noise, soften_edges
 from mvtools.synthesis.holes import fill_holes
@@ -27,7 +26,7 @@ from mvtools.synthesis.views import ReferenceView, SynthesisOptions, WarpedView
 from mvtools.synthesis.working import to_working
 
 RANGE = (500.0, 5000.0)
-STEP = inverse_depth_step(RANGE)          # inverse depth of one 8-bit depth-value step
+STEP = inverse_depth_step(RANGE)  # inverse depth of one 8-bit depth-value step
 
 
 def camera_at(x: float, y: float = 0.0, z: float = 0.0) -> Camera:
@@ -45,6 +44,7 @@ def z_in_front_of(z: float, steps: float) -> float:
 
 
 # ----------------------------------------------------------------------------- working space
+
 
 @pytest.mark.parametrize("rows", [300, 301])
 def test_working_space_upsamples_chroma_exactly_across_the_whole_frame(rows):
@@ -64,6 +64,7 @@ def test_working_space_upsamples_chroma_exactly_across_the_whole_frame(rows):
 
 # ----------------------------------------------------------------------------- weights
 
+
 def test_two_view_weights_follow_seed_equation_1_20():
     # |t_v - t_left| = 1, |t_v - t_right| = 3: w_left = 3 / (1 + 3).
     weights = view_weights(camera_at(1.0), [camera_at(0.0), camera_at(4.0)])
@@ -78,8 +79,9 @@ def test_more_views_weight_the_two_nearest_only():
     weights = view_weights(camera_at(0.0), [camera_at(-1.0), camera_at(2.0), camera_at(4.0)])
     np.testing.assert_allclose(weights, [2 / 3, 1 / 3, 0.0])
     # Distances 2, 1, 2, 3: a tie for the second place keeps both.
-    weights = view_weights(camera_at(0.0), [camera_at(-2.0), camera_at(1.0), camera_at(2.0),
-                                            camera_at(3.0)])
+    weights = view_weights(
+        camera_at(0.0), [camera_at(-2.0), camera_at(1.0), camera_at(2.0), camera_at(3.0)]
+    )
     np.testing.assert_allclose(weights, [0.25, 0.5, 0.25, 0.0])
 
 
@@ -92,13 +94,15 @@ def test_a_reference_at_the_virtual_camera_takes_all_the_weight():
 
 # ----------------------------------------------------------------------------- merging
 
+
 def test_agreeing_depths_blend_with_the_weights():
     merged = merge_views([flat(100, 1000), flat(200, 1000)], [0.75, 0.25], depth_range=RANGE)
     np.testing.assert_allclose(merged.color, 125.0, rtol=1e-6)
     np.testing.assert_array_equal(merged.z, 1000.0)
     # Three views: (4 * 70 + 2 * 140 + 1 * 210) / 7 = 110.
-    merged = merge_views([flat(70, 1000), flat(140, 1000), flat(210, 1000)],
-                         [4 / 7, 2 / 7, 1 / 7], depth_range=RANGE)
+    merged = merge_views(
+        [flat(70, 1000), flat(140, 1000), flat(210, 1000)], [4 / 7, 2 / 7, 1 / 7], depth_range=RANGE
+    )
     np.testing.assert_allclose(merged.color, 110.0, rtol=1e-6)
 
 
@@ -106,8 +110,12 @@ def test_agreeing_depths_blend_with_the_weights():
 def test_depth_blend_difference_is_in_depth_value_steps(steps, expected):
     # The right view is `steps` depth-value steps nearer: blended under 5, else it wins.
     near = z_in_front_of(1000.0, steps)
-    merged = merge_views([flat(100, 1000), flat(200, near)], [0.75, 0.25],
-                         depth_blend_difference=5, depth_range=RANGE)
+    merged = merge_views(
+        [flat(100, 1000), flat(200, near)],
+        [0.75, 0.25],
+        depth_blend_difference=5,
+        depth_range=RANGE,
+    )
     np.testing.assert_allclose(merged.color, expected, rtol=1e-6)
     np.testing.assert_allclose(merged.z, near)
 
@@ -139,8 +147,9 @@ def test_view_blending_takes_the_nearer_camera_and_fills_its_holes_from_the_othe
     left, right = flat(100, 800), flat(200, 1000)
     right.z[2, 3] = np.inf
     left.z[0, 5] = right.z[0, 5] = np.inf
-    merged = merge_views([left, right], [0.25, 0.75], view_blending=True, depth_range=RANGE,
-                         overwrite=overwrite)
+    merged = merge_views(
+        [left, right], [0.25, 0.75], view_blending=True, depth_range=RANGE, overwrite=overwrite
+    )
     expected = np.full((4, 6), 200.0)
     expected[2, 3] = 100.0
     expected[0, 5] = 0.0
@@ -167,21 +176,29 @@ def test_views_with_different_depth_ranges_are_compared_in_z():
     assert abs(left_value - right_value) > 5
     z_left = float(depth_to_z(np.uint8(left_value), *left_range))
     z_right = float(depth_to_z(np.uint8(right_value), *right_range))
-    merged = merge_views([flat(100, z_left), flat(200, z_right)], [0.5, 0.5],
-                         depth_blend_difference=5, depth_range=common)
+    merged = merge_views(
+        [flat(100, z_left), flat(200, z_right)],
+        [0.5, 0.5],
+        depth_blend_difference=5,
+        depth_range=common,
+    )
     np.testing.assert_allclose(merged.color, 150.0, rtol=1e-6)
     # The same value 60 in both maps is two surfaces (z 279 and 558): VSRS blends
     # them, comparing z keeps the nearer.
     z_left = float(depth_to_z(np.uint8(60), *left_range))
     z_right = float(depth_to_z(np.uint8(60), *right_range))
-    merged = merge_views([flat(100, z_left), flat(200, z_right)], [0.5, 0.5],
-                         depth_blend_difference=5, depth_range=common)
+    merged = merge_views(
+        [flat(100, z_left), flat(200, z_right)],
+        [0.5, 0.5],
+        depth_blend_difference=5,
+        depth_range=common,
+    )
     np.testing.assert_array_equal(merged.color, 100.0)
 
 
 # ----------------------------------------------------------------------------- holes
 
-FOREGROUND = (250.0, 100.0)               # colour, depth
+FOREGROUND = (250.0, 100.0)  # colour, depth
 BACKGROUND = (50.0, 1000.0)
 
 
@@ -203,7 +220,7 @@ def test_a_hole_run_takes_the_background_side(method, background_on_right):
     np.testing.assert_array_equal(filled[holes], BACKGROUND[0])
     np.testing.assert_array_equal(filled_z[holes], BACKGROUND[1])
     np.testing.assert_array_equal(filled[~holes], color[~holes])
-    assert np.isinf(z[holes]).all()        # the input is not modified
+    assert np.isinf(z[holes]).all()  # the input is not modified
 
 
 def scene_2d():
@@ -232,7 +249,7 @@ def test_the_foreground_never_enters_a_hole_in_2d(method):
 def test_plain_inpainting_uses_the_foreground_too():
     color, z, holes = scene_2d()
     filled, filled_z = fill_holes(color, z, holes, method="inpaint")
-    assert filled[holes].max() > 100                 # the block bleeds into the hole
+    assert filled[holes].max() > 100  # the block bleeds into the hole
     np.testing.assert_array_equal(filled_z[holes], 1000.0)
 
 
@@ -252,8 +269,12 @@ def test_a_row_without_known_pixels_is_filled_along_columns():
 
 
 def test_nothing_known_leaves_infinite_depth_and_black():
-    filled, filled_z = fill_holes(np.ones((3, 3, 3), np.float32), np.full((3, 3), np.inf),
-                                  np.ones((3, 3), bool), method="background-diffusion")
+    filled, filled_z = fill_holes(
+        np.ones((3, 3, 3), np.float32),
+        np.full((3, 3), np.inf),
+        np.ones((3, 3), bool),
+        method="background-diffusion",
+    )
     assert np.isinf(filled_z).all() and not filled.any()
 
 
@@ -263,6 +284,7 @@ def test_unknown_method_is_refused():
 
 
 # ----------------------------------------------------------------------------- boundary noise
+
 
 def fringe_row(fringe_colour: float):
     """1 x 10 row: foreground, hole, then background whose first pixel has
@@ -281,18 +303,19 @@ def test_boundary_noise_marks_the_background_side_of_holes_only():
     expected[0, 6] = True
     np.testing.assert_array_equal(boundary_noise(z, width=2, depth_range=RANGE), expected)
     # Mirrored, and along columns.
-    np.testing.assert_array_equal(boundary_noise(z[:, ::-1], width=2, depth_range=RANGE),
-                                  expected[:, ::-1])
-    np.testing.assert_array_equal(boundary_noise(z.T.copy(), width=2, depth_range=RANGE),
-                                  expected.T)
-    assert not boundary_noise(z.T.copy(), width=2, depth_range=RANGE,
-                              along_columns=False).any()
+    np.testing.assert_array_equal(
+        boundary_noise(z[:, ::-1], width=2, depth_range=RANGE), expected[:, ::-1]
+    )
+    np.testing.assert_array_equal(
+        boundary_noise(z.T.copy(), width=2, depth_range=RANGE), expected.T
+    )
+    assert not boundary_noise(z.T.copy(), width=2, depth_range=RANGE, along_columns=False).any()
 
 
 def test_boundary_noise_ignores_holes_within_one_surface_and_at_the_border():
     z = np.full((1, 8), 1000.0)
     z[0, 3:5] = np.inf
-    z[0, 5:] = z_in_front_of(1000.0, 4.0)       # less than 5 depth-value steps apart
+    z[0, 5:] = z_in_front_of(1000.0, 4.0)  # less than 5 depth-value steps apart
     assert not boundary_noise(z, width=3, depth_range=RANGE).any()
     z = np.array([[np.inf, np.inf, 100.0, 100.0, 1000.0, 1000.0]])
     assert not boundary_noise(z, width=3, depth_range=RANGE).any()
@@ -304,7 +327,7 @@ def test_boundary_noise_removal_replaces_the_fringe_from_the_other_view():
     clean.color[0, :3] = 250.0
     clean.z[0, :3] = 100.0
     blended = merge_views([noisy, clean], [0.5, 0.5], depth_range=RANGE)
-    assert blended.color[0, 5, 0] == 150.0          # the fringe spoils the blend
+    assert blended.color[0, 5, 0] == 150.0  # the fringe spoils the blend
     cleaned = remove_boundary_noise([noisy, clean], width=1, depth_range=RANGE)
     assert np.isinf(cleaned[0].z[0, 5]) and np.isfinite(noisy.z[0, 5])
     merged = merge_views(cleaned, [0.5, 0.5], depth_range=RANGE)
@@ -338,29 +361,52 @@ SIZE = (160, 120)
 def two_planes():
     """A textured wall at z = 10 and a textured panel at z = 5, rendered exactly (area
     sampled) in four cameras 0.15 m apart; depth along the camera axis."""
-    texture = dict(frequency=2.0, octaves=4)
-    scene = Scene((
-        Plane("wall", point=(0, 0, 10), normal=(0, 0, -1), u_axis=(1, 0, 0),
-              texture=NoiseTexture(seed=1, colors=((0.7, 0.4, 0.3), (0.9, 0.85, 0.7)),
-                                   pattern="bricks", pattern_period=0.8, **texture)),
-        Rectangle("panel", center=(0.2, 0, 5), half_u=(0.6, 0, 0), half_v=(0, 0.5, 0),
-                  texture=NoiseTexture(seed=2, colors=((0.1, 0.3, 0.6), (0.7, 0.8, 0.9)),
-                                       **texture)),
-    ), znear=4.0, zfar=12.0)
+    texture = {"frequency": 2.0, "octaves": 4}
+    scene = Scene(
+        (
+            Plane(
+                "wall",
+                point=(0, 0, 10),
+                normal=(0, 0, -1),
+                u_axis=(1, 0, 0),
+                texture=NoiseTexture(
+                    seed=1,
+                    colors=((0.7, 0.4, 0.3), (0.9, 0.85, 0.7)),
+                    pattern="bricks",
+                    pattern_period=0.8,
+                    **texture,
+                ),
+            ),
+            Rectangle(
+                "panel",
+                center=(0.2, 0, 5),
+                half_u=(0.6, 0, 0),
+                half_v=(0, 0.5, 0),
+                texture=NoiseTexture(seed=2, colors=((0.1, 0.3, 0.6), (0.7, 0.8, 0.9)), **texture),
+            ),
+        ),
+        znear=4.0,
+        zfar=12.0,
+    )
     cameras = linear_rig(4, baseline=0.15, K=sample_intrinsics(*SIZE), size=SIZE)
     views = []
     for camera in cameras:
         rendering = render(scene, camera, samples=3)
-        views.append(ReferenceView(camera, (rendering.color * 255).astype(np.float32),
-                                   rendering.depth))
+        views.append(
+            ReferenceView(camera, (rendering.color * 255).astype(np.float32), rendering.depth)
+        )
     return views, (scene.znear, scene.zfar)
 
 
 def synthesize(views, virtual, references, *, depth_range, precision=4, **options):
     # Precision 4: the disparities here are multiples of 1/4 pixel.
-    synthesizer = Synthesizer(views[virtual].camera, [views[i].camera for i in references],
-                              SynthesisOptions(precision=precision, **options), size=SIZE,
-                              depth_range=depth_range)
+    synthesizer = Synthesizer(
+        views[virtual].camera,
+        [views[i].camera for i in references],
+        SynthesisOptions(precision=precision, **options),
+        size=SIZE,
+        depth_range=depth_range,
+    )
     return synthesizer.frame([views[i] for i in references])
 
 
@@ -370,12 +416,17 @@ def green_psnr(truth: ReferenceView, color, mask=None) -> float:
 
 @pytest.mark.parametrize("mode", ["general", "1d"])
 @pytest.mark.parametrize("boundary_noise_removal", [False, True])
-def test_two_views_give_back_the_rendered_virtual_view(two_planes, mode,
-                                                       boundary_noise_removal):
+def test_two_views_give_back_the_rendered_virtual_view(two_planes, mode, boundary_noise_removal):
     views, depth_range = two_planes
-    result = synthesize(views, 1, [0, 2], depth_range=depth_range, mode=mode,
-                        boundary_noise_removal=boundary_noise_removal,
-                        hole_filling="background-diffusion")
+    result = synthesize(
+        views,
+        1,
+        [0, 2],
+        depth_range=depth_range,
+        mode=mode,
+        boundary_noise_removal=boundary_noise_removal,
+        hole_filling="background-diffusion",
+    )
     # Measured 38.2 (general) and 39.0 dB (1D); copying view 0 instead scores 17 dB.
     assert green_psnr(views[1], result.color) > 37.0
     assert psnr(views[1].color[..., 1], views[0].color[..., 1], max_value=255) < 20
@@ -395,20 +446,21 @@ def test_more_than_two_references_fill_the_holes_of_the_nearest_two(two_planes):
 
 
 @pytest.mark.parametrize("mode", ["general", "1d"])
-def test_one_reference_is_warped_and_its_disocclusions_filled_from_the_background(two_planes,
-                                                                                  mode):
+def test_one_reference_is_warped_and_its_disocclusions_filled_from_the_background(two_planes, mode):
     views, depth_range = two_planes
-    result = synthesize(views, 1, [0], depth_range=depth_range, mode=mode,
-                        hole_filling="background-diffusion")
+    result = synthesize(
+        views, 1, [0], depth_range=depth_range, mode=mode, hole_filling="background-diffusion"
+    )
     holes = result.holes
     # The panel uncovers a strip of wall (about 0.15 * 150 * (1/5 - 1/10) = 2 px wide
     # along its height, plus the border the camera moves past).
-    assert 100 < holes.sum() < 2000                     # measured 300 and 390
-    assert green_psnr(views[1], result.color, ~holes) > 33.0   # measured 35.1 and 35.4
+    assert 100 < holes.sum() < 2000  # measured 300 and 390
+    assert green_psnr(views[1], result.color, ~holes) > 33.0  # measured 35.1 and 35.4
     # Filled from the wall, never from the panel: the wall's depth everywhere.
     np.testing.assert_allclose(result.z[holes], views[1].z[holes], rtol=0.02)
-    twice = synthesize(views, 1, [0, 0], depth_range=depth_range, mode=mode,
-                       hole_filling="background-diffusion")
+    twice = synthesize(
+        views, 1, [0, 0], depth_range=depth_range, mode=mode, hole_filling="background-diffusion"
+    )
     np.testing.assert_array_equal(twice.color, result.color)
     np.testing.assert_array_equal(twice.holes, holes)
 
@@ -416,22 +468,28 @@ def test_one_reference_is_warped_and_its_disocclusions_filled_from_the_backgroun
 def test_a_reference_at_the_virtual_camera_is_given_back(two_planes):
     views, depth_range = two_planes
     for view_blending in (False, True):
-        result = synthesize(views, 1, [0, 1], depth_range=depth_range, precision=1,
-                            view_blending=view_blending)
+        result = synthesize(
+            views, 1, [0, 1], depth_range=depth_range, precision=1, view_blending=view_blending
+        )
         np.testing.assert_allclose(result.color, views[1].color, atol=1e-3)
 
 
 def test_frame_needs_one_view_per_camera(two_planes):
     views, depth_range = two_planes
-    synthesizer = Synthesizer(views[1].camera, [views[0].camera, views[2].camera],
-                              SynthesisOptions(), size=SIZE, depth_range=depth_range)
+    synthesizer = Synthesizer(
+        views[1].camera,
+        [views[0].camera, views[2].camera],
+        SynthesisOptions(),
+        size=SIZE,
+        depth_range=depth_range,
+    )
     with pytest.raises(ValueError, match="expected 2 reference views, got 1"):
         synthesizer.frame([views[0]])
 
 
 # ----------------------------------------------------------------------------- Cones
 
-CONES_MIN_PSNR = 30.5      # measured 30.80 (general) and 30.79 (1D); VSRS 4.2: 30.85
+CONES_MIN_PSNR = 30.5  # measured 30.80 (general) and 30.79 (1D); VSRS 4.2: 30.85
 
 
 @pytest.fixture(scope="module")
@@ -444,11 +502,16 @@ def synthesize_cones(cones, **options):
         return np.stack(upsample_chroma(cones.yuv[name]), axis=-1).astype(np.float32)
 
     cameras = cones.cameras
-    synthesizer = Synthesizer(cameras["im4"], [cameras["im2"], cameras["im6"]],
-                              SynthesisOptions(**options), size=cones.size,
-                              depth_range=cones.depth_range)
-    return synthesizer.frame([ReferenceView(cameras[name], working(name), cones.z[name])
-                              for name in ("im2", "im6")])
+    synthesizer = Synthesizer(
+        cameras["im4"],
+        [cameras["im2"], cameras["im6"]],
+        SynthesisOptions(**options),
+        size=cones.size,
+        depth_range=cones.depth_range,
+    )
+    return synthesizer.frame(
+        [ReferenceView(cameras[name], working(name), cones.z[name]) for name in ("im2", "im6")]
+    )
 
 
 def cones_luma_psnr(cones, result) -> float:
@@ -458,24 +521,46 @@ def cones_luma_psnr(cones, result) -> float:
 
 @pytest.mark.parametrize("mode, precision", [("general", 4), ("1d", 2)])
 def test_cones_im4_from_im2_and_im6(cones, mode, precision):
-    result = synthesize_cones(cones, mode=mode, precision=precision,
-                              boundary_noise_removal=True, hole_filling="background-diffusion")
+    result = synthesize_cones(
+        cones,
+        mode=mode,
+        precision=precision,
+        boundary_noise_removal=True,
+        hole_filling="background-diffusion",
+    )
     assert cones_luma_psnr(cones, result) > CONES_MIN_PSNR
     # The chroma survives the round trip through 4:4:4 too.
-    chroma = np.clip(np.floor(downsample_chroma(result.color[..., 1].astype(np.float64)) + 0.5),
-                     0, 255)
+    chroma = np.clip(
+        np.floor(downsample_chroma(result.color[..., 1].astype(np.float64)) + 0.5), 0, 255
+    )
     assert psnr(cones.yuv["im4"][1], chroma, max_value=255) > 35.0
 
 
 # Measured gains (dB): BNR 0.25 general, 0.08 in 1D (whose CleanNoiseOption already
 # drops two background pixels at strong edges); edge softening 0.22 and 0.33.
-@pytest.mark.parametrize("mode, precision, option, gain", [
-    ("general", 4, "boundary_noise_removal", 0.15), ("1d", 2, "boundary_noise_removal", 0.03),
-    ("general", 4, "edge_softening", 0.15), ("1d", 2, "edge_softening", 0.15)])
-def test_cones_gains_from_boundary_noise_removal_and_edge_softening(cones, mode, precision,
-                                                                    option, gain):
-    scores = [cones_luma_psnr(cones, synthesize_cones(
-        cones, mode=mode, precision=precision, hole_filling="background-diffusion",
-        **{"boundary_noise_removal": True, "edge_softening": True, option: on}))
-        for on in (False, True)]
+@pytest.mark.parametrize(
+    "mode, precision, option, gain",
+    [
+        ("general", 4, "boundary_noise_removal", 0.15),
+        ("1d", 2, "boundary_noise_removal", 0.03),
+        ("general", 4, "edge_softening", 0.15),
+        ("1d", 2, "edge_softening", 0.15),
+    ],
+)
+def test_cones_gains_from_boundary_noise_removal_and_edge_softening(
+    cones, mode, precision, option, gain
+):
+    scores = [
+        cones_luma_psnr(
+            cones,
+            synthesize_cones(
+                cones,
+                mode=mode,
+                precision=precision,
+                hole_filling="background-diffusion",
+                **{"boundary_noise_removal": True, "edge_softening": True, option: on},
+            ),
+        )
+        for on in (False, True)
+    ]
     assert scores[1] > scores[0] + gain

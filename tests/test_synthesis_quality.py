@@ -17,14 +17,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from shared_data import shared_data
+from synthesize_runner import run_synthesize
 
 from mvtools.datasets import cones_multiview, fill_from_farther_neighbour, write_cones_case
 from mvtools.geometry.depth import depth_to_z
 from mvtools.io.images import read_image
 from mvtools.io.yuv import YuvFormat, open_video, read_frame
 from mvtools.metrics import psnr
-from shared_data import shared_data
-from synthesize_runner import run_synthesize
 
 SAMPLE_LINE = Path(__file__).resolve().parent.parent / "sample_data" / "line"
 
@@ -32,7 +32,7 @@ SAMPLE_LINE = Path(__file__).resolve().parent.parent / "sample_data" / "line"
 # the program measures 30.52 (general) and 30.71 (1D) here. The test guards what is reached,
 # far above a broken warp (copying im2 as im4 scores 16.7 dB).
 CONES_MIN_PSNR = 30.3
-KENDO_BAR = 40.0            # issue 3, bar 4 (VSRS 4.2: 52.6 dB ViewBlending 1, 35.9 with 0)
+KENDO_BAR = 40.0  # issue 3, bar 4 (VSRS 4.2: 52.6 dB ViewBlending 1, 35.9 with 0)
 KENDO_MIN_PSNR = 39.0
 
 
@@ -59,17 +59,21 @@ def synthesize_cones(case, folder: Path, *settings: str, **case_settings) -> flo
     code, err = run(config, *settings, cwd=folder)
     assert code == 0, err
     width, height = case.size
-    result = luma(folder / f"synthesized_im4_{width}x{height}_yuv420p.yuv", YuvFormat(width, height))
+    result = luma(
+        folder / f"synthesized_im4_{width}x{height}_yuv420p.yuv", YuvFormat(width, height)
+    )
     return psnr(case.yuv["im4"][0], result, max_value=255)
 
 
 # --------------------------------------------------------------------- the Cones case
 
+
 def test_unknown_disparities_take_the_farther_row_neighbour():
     disparity = np.array([[0, 5, 0, 0, 3, 0], [0, 0, 0, 0, 0, 0], [7, 0, 9, 0, 0, 2]], float)
     filled = fill_from_farther_neighbour(disparity, disparity > 0)
-    np.testing.assert_array_equal(filled, [[5, 5, 3, 3, 3, 3], [2, 2, 2, 2, 2, 2],
-                                           [7, 7, 9, 2, 2, 2]])
+    np.testing.assert_array_equal(
+        filled, [[5, 5, 3, 3, 3, 3], [2, 2, 2, 2, 2, 2], [7, 7, 9, 2, 2, 2]]
+    )
 
 
 def test_cones_case_holds_the_ground_truth_without_loss(tmp_path, cones):
@@ -90,12 +94,15 @@ def test_cones_case_holds_the_ground_truth_without_loss(tmp_path, cones):
 
 # --------------------------------------------------------------------- bar 1: Cones
 
+
 @pytest.fixture(scope="module")
 def cones_scores(cones, tmp_path_factory):
     """Y-PSNR of im4 with the case's settings (Precision 2), by mode."""
     folder = tmp_path_factory.mktemp("cones")
-    return {mode: synthesize_cones(cones, folder / mode, synthesis_mode=value)
-            for mode, value in (("general", 0), ("1d", 1))}
+    return {
+        mode: synthesize_cones(cones, folder / mode, synthesis_mode=value)
+        for mode, value in (("general", 0), ("1d", 1))
+    }
 
 
 @pytest.mark.parametrize("mode", ["general", "1d"])
@@ -104,29 +111,41 @@ def test_cones_im4_from_im2_and_im6(cones_scores, mode):
 
 
 @pytest.mark.parametrize("mode", [0, 1], ids=["general", "1d"])
-def test_cones_eighth_pixel_precision_and_boundary_noise_removal_gain(tmp_path, cones,
-                                                                      cones_scores, mode):
+def test_cones_eighth_pixel_precision_and_boundary_noise_removal_gain(
+    tmp_path, cones, cones_scores, mode
+):
     # Measured 31.38 (general) and 31.32 (1D): about 0.6 dB over Precision 2, because
     # the disparities to im4 are multiples of 1/8 pixel.
-    score = synthesize_cones(cones, tmp_path, synthesis_mode=mode, precision=8,
-                             boundary_noise_removal=1)
+    score = synthesize_cones(
+        cones, tmp_path, synthesis_mode=mode, precision=8, boundary_noise_removal=1
+    )
     assert score >= 31.1
     assert score >= cones_scores["general" if mode == 0 else "1d"] + 0.4
 
 
 # --------------------------------------------------------------------- bar 4: Kendo
 
+
 @pytest.mark.parametrize("blending", [0, 1])
 def test_kendo_camera_3_from_views_1_and_3_gives_view_3_back(tmp_path, blending):
     # The reference that coincides with the virtual camera must get all the weight;
     # VSRS 4.2 reaches 52.6 dB with ViewBlending 1 but only 35.9 dB with 0.
     kendo = shared_data("mpeg", "kendo")
-    code, err = run(kendo / "config" / "VSRS" / "vsrs_kendo_ori.cfg", "--data-dir", kendo,
-                    "VirtualCameraName=param_kendo03", f"ViewBlending={blending}", cwd=tmp_path)
+    code, err = run(
+        kendo / "config" / "VSRS" / "vsrs_kendo_ori.cfg",
+        "--data-dir",
+        kendo,
+        "VirtualCameraName=param_kendo03",
+        f"ViewBlending={blending}",
+        cwd=tmp_path,
+    )
     assert code == 0, err
     fmt = YuvFormat(1024, 768)
-    score = psnr(luma(kendo / "kendo_ori_I_3.yuv", fmt), luma(tmp_path / "kendo_syn_ori.yuv", fmt),
-                 max_value=255)
+    score = psnr(
+        luma(kendo / "kendo_ori_I_3.yuv", fmt),
+        luma(tmp_path / "kendo_syn_ori.yuv", fmt),
+        max_value=255,
+    )
     assert score >= KENDO_MIN_PSNR
 
 
@@ -158,8 +177,13 @@ def test_width_not_a_multiple_of_4(tmp_path, cones_scores, size):
 def test_1d_mode_with_boundary_noise_removal_terminates(tmp_path, cones, cones_scores):
     # VSRS 4.2 never ends here. Run as a separate process to bound the time.
     config = write_cones_case(cones, tmp_path, synthesis_mode=1, boundary_noise_removal=1)
-    completed = subprocess.run([sys.executable, "-m", "mvtools", "synthesize", str(config)],
-                               capture_output=True, text=True, cwd=tmp_path, timeout=120)
+    completed = subprocess.run(
+        [sys.executable, "-m", "mvtools", "synthesize", str(config)],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
     assert completed.returncode == 0, completed.stderr
     result = luma(tmp_path / "synthesized_im4_448x368_yuv420p.yuv", YuvFormat(448, 368))
     score = psnr(cones.yuv["im4"][0], result, max_value=255)
@@ -170,8 +194,13 @@ def test_1d_mode_with_boundary_noise_removal_terminates(tmp_path, cones, cones_s
 def test_different_znear_zfar_left_and_right_are_compared_in_z(tmp_path, cones, cones_scores):
     # The right depth map stored with another range: the same surfaces get other 8-bit
     # values, which VSRS compares as they are. Compared in z, the picture stays as good.
-    other = synthesize_cones(cones, tmp_path, synthesis_mode=0,
-                             right_nearest_depth_value=40.0, right_farthest_depth_value=2000.0)
+    other = synthesize_cones(
+        cones,
+        tmp_path,
+        synthesis_mode=0,
+        right_nearest_depth_value=40.0,
+        right_farthest_depth_value=2000.0,
+    )
     assert other >= GOOD_PICTURE
     assert other >= cones_scores["general"] - 0.3
 
@@ -185,10 +214,14 @@ def _sample_config(tmp_path: Path) -> Path:
 OUTPUT = "synthesized_v2_texture_256x192_yuv420p.yuv"
 
 
-@pytest.mark.parametrize("change, fragment", [
-    (("LeftCameraName", "cam9"), "no camera 'cam9'"),
-    (("LeftViewImageName", "gone.yuv"), "not found"),
-], ids=["missing-camera", "unreadable-file"])
+@pytest.mark.parametrize(
+    "change, fragment",
+    [
+        (("LeftCameraName", "cam9"), "no camera 'cam9'"),
+        (("LeftViewImageName", "gone.yuv"), "not found"),
+    ],
+    ids=["missing-camera", "unreadable-file"],
+)
 def test_errors_exit_non_zero(tmp_path, change, fragment):
     config = _sample_config(tmp_path)
     key, value = change

@@ -12,14 +12,31 @@ from program_runner import invoke
 from mvtools.cli.main import cli
 
 
-@pytest.mark.parametrize("files, args", [
-    (LINE_DERS, ("estimate-depth", DERS_CONFIG, "-o", "cameras.txt")),
-    (LINE_DERS, ("estimate-depth", DERS_CONFIG, "-o", "v1_texture_256x192_yuv420p.yuv")),
-    (LINE_SYNTHESIS, ("synthesize", SYNTHESIS_CONFIG, "-o", "cameras.txt")),
-    (LINE_SYNTHESIS, ("synthesize", SYNTHESIS_CONFIG, "-o", "out.yuv",
-                      "--output-depth", "v3_depth_256x192_yuv420p.yuv")),
-], ids=["estimate-depth onto the cameras", "estimate-depth onto a view",
-        "synthesize onto the cameras", "synthesize --output-depth onto a depth map"])
+@pytest.mark.parametrize(
+    "files, args",
+    [
+        (LINE_DERS, ("estimate-depth", DERS_CONFIG, "-o", "cameras.txt")),
+        (LINE_DERS, ("estimate-depth", DERS_CONFIG, "-o", "v1_texture_256x192_yuv420p.yuv")),
+        (LINE_SYNTHESIS, ("synthesize", SYNTHESIS_CONFIG, "-o", "cameras.txt")),
+        (
+            LINE_SYNTHESIS,
+            (
+                "synthesize",
+                SYNTHESIS_CONFIG,
+                "-o",
+                "out.yuv",
+                "--output-depth",
+                "v3_depth_256x192_yuv420p.yuv",
+            ),
+        ),
+    ],
+    ids=[
+        "estimate-depth onto the cameras",
+        "estimate-depth onto a view",
+        "synthesize onto the cameras",
+        "synthesize --output-depth onto a depth map",
+    ],
+)
 def test_an_output_onto_an_input_fails_before_any_work(files, args, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     files(tmp_path)

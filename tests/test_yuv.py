@@ -7,8 +7,16 @@ import pytest
 from shared_data import shared_data
 
 from mvtools.errors import DataError, UsageError
-from mvtools.io.yuv import (YuvFormat, format_from_name, frame_from_luma, guess_format, open_video,
-                            open_writer, read_frame, write_video)
+from mvtools.io.yuv import (
+    YuvFormat,
+    format_from_name,
+    frame_from_luma,
+    guess_format,
+    open_video,
+    open_writer,
+    read_frame,
+    write_video,
+)
 
 FORMATS = [(chroma, bits) for chroma in ("420", "444", "400", "422") for bits in (8, 10, 16)]
 
@@ -16,8 +24,12 @@ FORMATS = [(chroma, bits) for chroma in ("420", "444", "400", "422") for bits in
 def random_frames(fmt, count, seed=0):
     rng = np.random.default_rng(seed)
     native = np.uint8 if fmt.bits == 8 else np.uint16
-    return [tuple(rng.integers(0, fmt.max_value + 1, shape).astype(native) for shape in fmt.plane_shapes)
-            for _ in range(count)]
+    return [
+        tuple(
+            rng.integers(0, fmt.max_value + 1, shape).astype(native) for shape in fmt.plane_shapes
+        )
+        for _ in range(count)
+    ]
 
 
 def mapped_on_file(array):
@@ -40,6 +52,7 @@ def assert_frames_equal(got, expected):
 
 # ----------------------------------------------------------------------------- YuvFormat
 
+
 def test_plane_shapes_and_frame_bytes_of_odd_size():
     # 33x17: chroma of 4:2:0 is ceil(17/2) x ceil(33/2) = 9 x 17.
     assert YuvFormat(33, 17).plane_shapes == ((17, 33), (9, 17), (9, 17))
@@ -54,11 +67,20 @@ def test_plane_shapes_and_frame_bytes_of_odd_size():
     assert YuvFormat(4, 4).dtype == np.dtype(np.uint8)
 
 
-@pytest.mark.parametrize("pix_fmt, chroma, bits", [
-    ("yuv420p", "420", 8), ("yuv420p10le", "420", 10), ("yuv420p16le", "420", 16),
-    ("yuv444p", "444", 8), ("yuv444p12le", "444", 12), ("yuv422p", "422", 8),
-    ("gray", "400", 8), ("gray10le", "400", 10), ("gray16le", "400", 16),
-])
+@pytest.mark.parametrize(
+    "pix_fmt, chroma, bits",
+    [
+        ("yuv420p", "420", 8),
+        ("yuv420p10le", "420", 10),
+        ("yuv420p16le", "420", 16),
+        ("yuv444p", "444", 8),
+        ("yuv444p12le", "444", 12),
+        ("yuv422p", "422", 8),
+        ("gray", "400", 8),
+        ("gray10le", "400", 10),
+        ("gray16le", "400", 16),
+    ],
+)
 def test_pix_fmt_names(pix_fmt, chroma, bits):
     fmt = YuvFormat.from_pix_fmt(8, 6, pix_fmt)
     assert (fmt.chroma, fmt.bits) == (chroma, bits)
@@ -67,7 +89,7 @@ def test_pix_fmt_names(pix_fmt, chroma, bits):
 
 def test_yuv400p_is_gray_and_unknown_pix_fmt_lists_supported():
     assert YuvFormat.from_pix_fmt(8, 6, "yuv400p") == YuvFormat(8, 6, "400", 8)
-    with pytest.raises(UsageError, match="rgb24.*supported: yuv420p, yuv420p10le.*gray16le"):
+    with pytest.raises(UsageError, match=r"rgb24.*supported: yuv420p, yuv420p10le.*gray16le"):
         YuvFormat.from_pix_fmt(8, 6, "rgb24")
     with pytest.raises(UsageError, match="big-endian"):
         YuvFormat.from_pix_fmt(8, 6, "yuv420p10be")
@@ -83,17 +105,21 @@ def test_with_changes_fields():
 
 # ----------------------------------------------------------------------------- names
 
-@pytest.mark.parametrize("name, expected", [
-    ("kendo_1024x768_yuv420p.yuv", YuvFormat(1024, 768, "420", 8)),
-    ("seq_1024x768.yuv", YuvFormat(1024, 768, "420", 8)),
-    ("v0_texture_1920x1080_yuv420p10le.yuv", YuvFormat(1920, 1080, "420", 10)),
-    ("v0_depth_1920x1080_yuv420p16le.yuv", YuvFormat(1920, 1080, "420", 16)),
-    ("depth_640x480_gray.yuv", YuvFormat(640, 480, "400", 8)),
-    ("depth_640x480_gray16le.yuv", YuvFormat(640, 480, "400", 16)),
-    ("depth_640x480_gray10le.yuv", YuvFormat(640, 480, "400", 10)),
-    ("tex_33x17_yuv444p.yuv", YuvFormat(33, 17, "444", 8)),
-    ("kendo_ori_I_1.yuv", None),
-])
+
+@pytest.mark.parametrize(
+    "name, expected",
+    [
+        ("kendo_1024x768_yuv420p.yuv", YuvFormat(1024, 768, "420", 8)),
+        ("seq_1024x768.yuv", YuvFormat(1024, 768, "420", 8)),
+        ("v0_texture_1920x1080_yuv420p10le.yuv", YuvFormat(1920, 1080, "420", 10)),
+        ("v0_depth_1920x1080_yuv420p16le.yuv", YuvFormat(1920, 1080, "420", 16)),
+        ("depth_640x480_gray.yuv", YuvFormat(640, 480, "400", 8)),
+        ("depth_640x480_gray16le.yuv", YuvFormat(640, 480, "400", 16)),
+        ("depth_640x480_gray10le.yuv", YuvFormat(640, 480, "400", 10)),
+        ("tex_33x17_yuv444p.yuv", YuvFormat(33, 17, "444", 8)),
+        ("kendo_ori_I_1.yuv", None),
+    ],
+)
 def test_format_from_name(name, expected):
     assert format_from_name(f"/some/dir/{name}") == expected
 
@@ -106,6 +132,7 @@ def test_unsupported_pix_fmt_in_name_is_an_error():
 
 
 # ----------------------------------------------------------------------------- round trips
+
 
 @pytest.mark.parametrize("chroma, bits", FORMATS)
 @pytest.mark.parametrize("suffix", [".yuv", ".y4m"])
@@ -147,8 +174,13 @@ def test_gray16_bytes_and_big_endian_input_array(tmp_path):
 
 def test_memory_mapped_frames_of_a_multi_frame_file(tmp_path):
     fmt = YuvFormat(7, 5, "420", 10)
-    frames = [tuple(np.full(shape, 100 * index + plane, np.uint16)
-                    for plane, shape in enumerate(fmt.plane_shapes)) for index in range(6)]
+    frames = [
+        tuple(
+            np.full(shape, 100 * index + plane, np.uint16)
+            for plane, shape in enumerate(fmt.plane_shapes)
+        )
+        for index in range(6)
+    ]
     path = tmp_path / "many_7x5_yuv420p10le.yuv"
     write_video(path, fmt, frames)
     with open_video(path) as reader:
@@ -159,7 +191,7 @@ def test_memory_mapped_frames_of_a_multi_frame_file(tmp_path):
         assert (y == 400).all() and (u == 401).all() and (v == 402).all()
         assert [int(f[0][0, 0]) for f in reader.frames(start=2, count=3)] == [200, 300, 400]
         assert [int(f[2][0, 0]) for f in reader] == [2, 102, 202, 302, 402, 502]
-        with pytest.raises(UsageError, match="frame 6 does not exist.*6 frames"):
+        with pytest.raises(UsageError, match=r"frame 6 does not exist.*6 frames"):
             reader.read(6)
         with pytest.raises(UsageError, match="6 frames"):
             list(reader.frames(start=4, count=3))
@@ -177,12 +209,13 @@ def test_read_frame_returns_writable_copy(tmp_path):
 
 def test_frame_from_luma_has_neutral_chroma():
     luma = np.zeros((5, 7), np.uint16)
-    y, u, v = frame_from_luma(YuvFormat(7, 5, "420", 10), luma)
+    _y, u, v = frame_from_luma(YuvFormat(7, 5, "420", 10), luma)
     assert u.shape == v.shape == (3, 4) and (u == 512).all() and (v == 512).all()
     assert len(frame_from_luma(YuvFormat(7, 5, "400", 8), luma.astype(np.uint8))) == 1
 
 
 # ----------------------------------------------------------------------------- errors
+
 
 def test_truncated_file_names_size_frame_bytes_and_alternative(tmp_path):
     path = tmp_path / "depth.yuv"
@@ -199,7 +232,7 @@ def test_truncated_file_names_size_frame_bytes_and_alternative(tmp_path):
 def test_truncated_file_that_fits_nothing(tmp_path):
     path = tmp_path / "cut_64x48_yuv420p.yuv"
     path.write_bytes(bytes(4608 + 100))
-    with pytest.raises(DataError, match="4708 bytes.*no format of that size fits"):
+    with pytest.raises(DataError, match=r"4708 bytes.*no format of that size fits"):
         open_video(path)
 
 
@@ -250,7 +283,7 @@ def test_guess_format_refuses_halving_or_doubling(tmp_path):
     assert "as yuv444p it is 1 frame" in message
     # Odd size: 3 grey frames or 1 yuv444p frame, and yuv420p does not fit.
     odd = _write(tmp_path / "odd.yuv", 3 * 33 * 17)
-    with pytest.raises(UsageError, match="yuv400p \\(gray\\) it is 3 frames.*yuv444p it is 1 frame"):
+    with pytest.raises(UsageError, match=r"yuv400p \(gray\) it is 3 frames.*yuv444p it is 1 frame"):
         guess_format(odd, 33, 17)
     with pytest.raises(DataError, match="empty"):
         guess_format(_write(tmp_path / "z.yuv", 0), 64, 48)
@@ -262,10 +295,9 @@ def test_guess_format_refuses_halving_or_doubling(tmp_path):
 @pytest.mark.parametrize("suffix", [".yuv", ".y4m"])
 def test_writer_error_leaves_nothing(tmp_path, suffix):
     fmt = YuvFormat(8, 6)
-    with pytest.raises(RuntimeError):
-        with open_writer(tmp_path / f"out{suffix}", fmt) as writer:
-            writer.write(random_frames(fmt, 1)[0])
-            raise RuntimeError("stop")
+    with pytest.raises(RuntimeError), open_writer(tmp_path / f"out{suffix}", fmt) as writer:
+        writer.write(random_frames(fmt, 1)[0])
+        raise RuntimeError("stop")
     assert list(tmp_path.iterdir()) == []
 
 
@@ -288,20 +320,30 @@ def test_writer_validates_planes(tmp_path):
 def test_out_of_range_frame_count_in_message(tmp_path):
     path = tmp_path / "a.y4m"
     write_video(path, YuvFormat(4, 4), random_frames(YuvFormat(4, 4), 2))
-    with open_video(path) as reader:
-        with pytest.raises(UsageError, match="frame 2 does not exist: the video has 2 frames"):
-            reader.read(2)
+    with (
+        open_video(path) as reader,
+        pytest.raises(UsageError, match="frame 2 does not exist: the video has 2 frames"),
+    ):
+        reader.read(2)
     with pytest.raises(UsageError, match="not 4x4 yuv444p"):
         open_video(path, YuvFormat(4, 4, "444"))
 
 
 # ----------------------------------------------------------------------------- Y4M
 
-@pytest.mark.parametrize("chroma, bits, tag", [
-    ("420", 8, b"C420jpeg XYSCSS=420JPEG"), ("444", 8, b"C444 XYSCSS=444"), ("400", 8, b"Cmono"),
-    ("420", 10, b"C420p10 XYSCSS=420P10"), ("444", 16, b"C444p16 XYSCSS=444P16"),
-    ("400", 16, b"Cmono16"), ("422", 8, b"C422 XYSCSS=422"),
-])
+
+@pytest.mark.parametrize(
+    "chroma, bits, tag",
+    [
+        ("420", 8, b"C420jpeg XYSCSS=420JPEG"),
+        ("444", 8, b"C444 XYSCSS=444"),
+        ("400", 8, b"Cmono"),
+        ("420", 10, b"C420p10 XYSCSS=420P10"),
+        ("444", 16, b"C444p16 XYSCSS=444P16"),
+        ("400", 16, b"Cmono16"),
+        ("422", 8, b"C422 XYSCSS=422"),
+    ],
+)
 def test_y4m_header_as_ffmpeg_writes_it(tmp_path, chroma, bits, tag):
     fmt = YuvFormat(33, 17, chroma, bits)
     path = tmp_path / "v.y4m"
@@ -311,7 +353,7 @@ def test_y4m_header_as_ffmpeg_writes_it(tmp_path, chroma, bits, tag):
     data = path.read_bytes()
     assert data.startswith(header + b"FRAME\n")
     second = len(header) + 6 + fmt.frame_bytes
-    assert data[second:second + 6] == b"FRAME\n"
+    assert data[second : second + 6] == b"FRAME\n"
     assert len(data) == len(header) + 2 * (6 + fmt.frame_bytes)
     with open_video(path) as reader:
         assert reader.frame_rate == Fraction(30000, 1001)
@@ -320,10 +362,15 @@ def test_y4m_header_as_ffmpeg_writes_it(tmp_path, chroma, bits, tag):
 def test_hand_written_y4m_with_frame_parameters(tmp_path):
     # 4x2 4:4:4, FRAME lines of different lengths, an X tag in the header.
     planes = [np.arange(24, dtype=np.uint8) + 30 * k for k in range(3)]
-    data = (b"YUV4MPEG2 W4 H2 F30:1 It A0:0 C444 XVENDOR=test\n"
-            + b"FRAME Ixyz\n" + planes[0].tobytes()
-            + b"FRAME\n" + planes[1].tobytes()
-            + b"FRAME Ixyz Xcomment=1\n" + planes[2].tobytes())
+    data = (
+        b"YUV4MPEG2 W4 H2 F30:1 It A0:0 C444 XVENDOR=test\n"
+        + b"FRAME Ixyz\n"
+        + planes[0].tobytes()
+        + b"FRAME\n"
+        + planes[1].tobytes()
+        + b"FRAME Ixyz Xcomment=1\n"
+        + planes[2].tobytes()
+    )
     path = tmp_path / "hand.y4m"
     path.write_bytes(data)
     with open_video(path) as reader:
@@ -332,7 +379,7 @@ def test_hand_written_y4m_with_frame_parameters(tmp_path):
         assert reader.frame_rate == Fraction(30)
         assert reader.interlacing == "t"
         for index in (2, 0, 1):
-            y, u, v = reader.read(index)
+            y, _u, v = reader.read(index)
             np.testing.assert_array_equal(y, planes[index][:8].reshape(2, 4))
             np.testing.assert_array_equal(v, planes[index][16:].reshape(2, 4))
 
@@ -346,13 +393,23 @@ def test_y4m_same_frame_lines_with_parameters(tmp_path):
     path.write_bytes(b"YUV4MPEG2 W3 H3 F25:1\n" + body)
     with open_video(path) as reader:
         assert reader.format == fmt
-        assert_frames_equal([reader.read(i) for i in (3, 1, 0, 2)], [frames[i] for i in (3, 1, 0, 2)])
+        assert_frames_equal(
+            [reader.read(i) for i in (3, 1, 0, 2)], [frames[i] for i in (3, 1, 0, 2)]
+        )
 
 
-@pytest.mark.parametrize("tag, chroma, bits", [
-    ("420paldv", "420", 8), ("420mpeg2", "420", 8), ("420", "420", 8), ("mono", "400", 8),
-    ("mono16", "400", 16), ("420p10", "420", 10), ("444p12", "444", 12),
-])
+@pytest.mark.parametrize(
+    "tag, chroma, bits",
+    [
+        ("420paldv", "420", 8),
+        ("420mpeg2", "420", 8),
+        ("420", "420", 8),
+        ("mono", "400", 8),
+        ("mono16", "400", 16),
+        ("420p10", "420", 10),
+        ("444p12", "444", 12),
+    ],
+)
 def test_y4m_colour_space_tags(tmp_path, tag, chroma, bits):
     fmt = YuvFormat(2, 2, chroma, bits)
     path = tmp_path / "t.y4m"
@@ -367,8 +424,12 @@ def test_y4m_unsupported_and_truncated(tmp_path):
     with pytest.raises(DataError, match="C411 is not supported"):
         open_video(path)
     fmt = YuvFormat(4, 4)
-    path.write_bytes(b"YUV4MPEG2 W4 H4 C420jpeg\n" + (b"FRAME\n" + bytes(fmt.frame_bytes)) * 2
-                     + b"FRAME\n" + bytes(10))
+    path.write_bytes(
+        b"YUV4MPEG2 W4 H4 C420jpeg\n"
+        + (b"FRAME\n" + bytes(fmt.frame_bytes)) * 2
+        + b"FRAME\n"
+        + bytes(10)
+    )
     with pytest.raises(DataError, match="frame 2 is truncated: 10 of 24 bytes"):
         open_video(path)
     path.write_bytes(b"YUV4MPEG2 W4 H4\nFRAMX\n" + bytes(fmt.frame_bytes))
@@ -380,6 +441,7 @@ def test_y4m_unsupported_and_truncated(tmp_path):
 
 
 # ----------------------------------------------------------------------------- published material
+
 
 def test_kendo_depth_is_420_with_neutral_chroma():
     path = shared_data("mpeg", "kendo", "kendo_ori_D_1.yuv")

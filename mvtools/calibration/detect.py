@@ -41,8 +41,10 @@ class Board:
     def __post_init__(self):
         corners = tuple(self.inner_corners)
         if len(corners) != 2 or any(int(n) != n or n < 2 for n in corners):
-            raise ValueError(f"inner_corners must be two integers >= 2 (columns, rows), "
-                             f"got {self.inner_corners!r}")
+            raise ValueError(
+                f"inner_corners must be two integers >= 2 (columns, rows), "
+                f"got {self.inner_corners!r}"
+            )
         if not self.square_size > 0:
             raise ValueError(f"square_size must be positive, got {self.square_size!r}")
         object.__setattr__(self, "inner_corners", tuple(int(n) for n in corners))
@@ -77,8 +79,7 @@ class Detection:
     reason: str | None
 
 
-def detect_board(image: np.ndarray, board: Board, *, max_grid_residual: float = 1.0
-                 ) -> Detection:
+def detect_board(image: np.ndarray, board: Board, *, max_grid_residual: float = 1.0) -> Detection:
     """Find the inner corners of ``board`` in ``image``.
 
     The sector-based detector (``findChessboardCornersSB``, exhaustive, accurate)
@@ -131,8 +132,9 @@ def detect_board(image: np.ndarray, board: Board, *, max_grid_residual: float = 
     return first_rejection or Detection(corners=None, method=None, reason="board not found")
 
 
-def grid_defect(image: np.ndarray, corners: np.ndarray, board: Board, *,
-                max_residual: float = 1.0) -> str | None:
+def grid_defect(
+    image: np.ndarray, corners: np.ndarray, board: Board, *, max_residual: float = 1.0
+) -> str | None:
     """Why detected corners are unfit for calibration, or None if they are fit.
 
     Three checks, in order:
@@ -173,13 +175,19 @@ def grid_defect(image: np.ndarray, corners: np.ndarray, board: Board, *,
     grey = _grey(image)
     corners = np.asarray(corners, dtype=np.float64)
     if corners.shape != (board.corner_count, 2):
-        raise ValueError(f"corners must have shape ({board.corner_count}, 2) for a "
-                         f"{board.inner_corners} board, got {corners.shape}")
+        raise ValueError(
+            f"corners must have shape ({board.corner_count}, 2) for a "
+            f"{board.inner_corners} board, got {corners.shape}"
+        )
     height, width = grey.shape
     if not np.all(np.isfinite(corners)):
         return "corners not finite"
-    outside = np.flatnonzero((corners[:, 0] < 0) | (corners[:, 0] > width - 1)
-                             | (corners[:, 1] < 0) | (corners[:, 1] > height - 1))
+    outside = np.flatnonzero(
+        (corners[:, 0] < 0)
+        | (corners[:, 0] > width - 1)
+        | (corners[:, 1] < 0)
+        | (corners[:, 1] > height - 1)
+    )
     if outside.size:
         return f"corners outside the {width}x{height} image ({outside.size} of {len(corners)})"
     columns, rows = board.inner_corners
@@ -187,14 +195,16 @@ def grid_defect(image: np.ndarray, corners: np.ndarray, board: Board, *,
     gaps = _crossing_gaps(grey, grid)
     weak = np.flatnonzero(gaps < _MIN_CROSSING_CONTRAST * np.median(gaps))
     if weak.size:
-        return (f"corner grid off the board's crossings ({weak.size} of {len(corners)} corners "
-                f"are no crossing of dark and light squares, the first corner {weak[0]})")
+        return (
+            f"corner grid off the board's crossings ({weak.size} of {len(corners)} corners "
+            f"are no crossing of dark and light squares, the first corner {weak[0]})"
+        )
     plane = board.object_points()[:, :2].reshape(rows, columns, 2)
     block_rows, block_columns = min(3, rows), min(3, columns)
     worst, worst_corner = 0.0, 0
     for top in range(rows - block_rows + 1):
         for left in range(columns - block_columns + 1):
-            window = np.s_[top:top + block_rows, left:left + block_columns]
+            window = np.s_[top : top + block_rows, left : left + block_columns]
             source = plane[window].reshape(-1, 2)
             target = grid[window].reshape(-1, 2)
             homography, _ = cv2.findHomography(source, target, 0)
@@ -206,8 +216,10 @@ def grid_defect(image: np.ndarray, corners: np.ndarray, board: Board, *,
                 worst = residual
                 worst_corner = (top + block_rows // 2) * columns + left + block_columns // 2
     if worst > max_residual:
-        return (f"corner grid irregular (homography residual {worst:.1f} px around corner "
-                f"{worst_corner})")
+        return (
+            f"corner grid irregular (homography residual {worst:.1f} px around corner "
+            f"{worst_corner})"
+        )
     return None
 
 
@@ -216,11 +228,18 @@ def _crossing_gaps(grey: np.ndarray, grid: np.ndarray) -> np.ndarray:
     the darker pair (grey levels; <= 0 where the pairs do not separate), shape (N,)."""
     along_rows = np.gradient(grid, axis=1)
     along_columns = np.gradient(grid, axis=0)
-    centres = [grid + 0.25 * (sign_row * along_rows + sign_column * along_columns)
-               for sign_row, sign_column in ((1, 1), (-1, -1), (1, -1), (-1, 1))]
+    centres = [
+        grid + 0.25 * (sign_row * along_rows + sign_column * along_columns)
+        for sign_row, sign_column in ((1, 1), (-1, -1), (1, -1), (-1, 1))
+    ]
     points = np.stack(centres).reshape(-1, 2).astype(np.float32)
-    samples = cv2.remap(grey.astype(np.float32), points[:, :1], points[:, 1:],
-                        cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    samples = cv2.remap(
+        grey.astype(np.float32),
+        points[:, :1],
+        points[:, 1:],
+        cv2.INTER_LINEAR,
+        borderMode=cv2.BORDER_REPLICATE,
+    )
     first, second, third, fourth = samples.reshape(4, -1)
     one_diagonal = np.minimum(first, second) - np.maximum(third, fourth)
     other_diagonal = np.minimum(third, fourth) - np.maximum(first, second)
@@ -245,11 +264,18 @@ def _refine(grey: np.ndarray, corners: np.ndarray, pattern: tuple[int, int]) -> 
     on OpenCV's stereo set, into the board's margin: RMS 0.41 px against 0.18 px."""
     columns, rows = pattern
     grid = corners.reshape(rows, columns, 2)
-    spacing = min(np.linalg.norm(np.diff(grid, axis=0), axis=-1).min(),
-                  np.linalg.norm(np.diff(grid, axis=1), axis=-1).min())
+    spacing = min(
+        np.linalg.norm(np.diff(grid, axis=0), axis=-1).min(),
+        np.linalg.norm(np.diff(grid, axis=1), axis=-1).min(),
+    )
     half = int(np.clip(round(0.3 * spacing), 2, 15))
-    refined = cv2.cornerSubPix(grey, corners.astype(np.float32).reshape(-1, 1, 2), (half, half),
-                               (-1, -1), _SUBPIXEL_CRITERIA)
+    refined = cv2.cornerSubPix(
+        grey,
+        corners.astype(np.float32).reshape(-1, 1, 2),
+        (half, half),
+        (-1, -1),
+        _SUBPIXEL_CRITERIA,
+    )
     return refined.reshape(-1, 2).astype(np.float64)
 
 

@@ -11,8 +11,9 @@ _DETECTED = (40, 220, 40)
 _ERROR = (255, 40, 40)
 
 
-def draw_corners(image: np.ndarray, detected, reprojected, *,
-                 error_scale: float = 20.0) -> np.ndarray:
+def draw_corners(
+    image: np.ndarray, detected, reprojected, *, error_scale: float = 20.0
+) -> np.ndarray:
     """A camera's capture with the corners of all its captures and their errors drawn.
 
     The corners of every used capture show how well the captures cover the picture
@@ -36,8 +37,9 @@ def draw_corners(image: np.ndarray, detected, reprojected, *,
     if error_scale <= 0:
         raise ValueError(f"error_scale must be positive, got {error_scale}")
     if len(detected) != len(reprojected):
-        raise ValueError(f"{len(detected)} detected corner sets but {len(reprojected)} "
-                         "reprojected ones")
+        raise ValueError(
+            f"{len(detected)} detected corner sets but {len(reprojected)} reprojected ones"
+        )
     image = np.asarray(image, dtype=np.uint8)
     if image.ndim == 2:
         image = np.repeat(image[..., None], 3, axis=2)
@@ -48,8 +50,9 @@ def draw_corners(image: np.ndarray, detected, reprojected, *,
         found = np.asarray(found, dtype=np.float64).reshape(-1, 2)
         model = np.asarray(model, dtype=np.float64).reshape(-1, 2)
         ends = found + error_scale * (model - found)
-        for start, end in zip(np.round(found * scale).astype(int),
-                              np.round(ends * scale).astype(int)):
+        for start, end in zip(
+            np.round(found * scale).astype(int), np.round(ends * scale).astype(int)
+        ):
             cv2.circle(canvas, tuple(start), int(3 * scale), _DETECTED, 1, cv2.LINE_AA, shift)
             cv2.line(canvas, tuple(start), tuple(end), _ERROR, 1, cv2.LINE_AA, shift)
     return canvas

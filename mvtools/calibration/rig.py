@@ -14,8 +14,8 @@ A board pose ``(B, b)`` maps board to world coordinates, ``X = B @ X_board + b``
 from __future__ import annotations
 
 from collections import deque
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import cv2
 import numpy as np
@@ -87,10 +87,18 @@ class RigCalibration:
         return np.degrees(np.arccos(cosines))
 
 
-def calibrate_rig(image_points, board: Board, sizes, *, names: Sequence[str] | None = None,
-                  reference: int = 0, tangential: bool = True, max_capture_rms: float = 1.0,
-                  min_captures: int = 3, capture_names: Sequence[str] | None = None
-                  ) -> RigCalibration:
+def calibrate_rig(
+    image_points,
+    board: Board,
+    sizes,
+    *,
+    names: Sequence[str] | None = None,
+    reference: int = 0,
+    tangential: bool = True,
+    max_capture_rms: float = 1.0,
+    min_captures: int = 3,
+    capture_names: Sequence[str] | None = None,
+) -> RigCalibration:
     """Calibrate a rig of cameras that saw one checkerboard at the same instants.
 
     Parameters
@@ -135,8 +143,17 @@ def calibrate_rig(image_points, board: Board, sizes, *, names: Sequence[str] | N
         raise ValueError("image_points has no camera")
     captures_count = len(image_points[0])
     names = [f"cam{c}" for c in range(cameras_count)] if names is None else list(names)
-    _check_arguments(image_points, board, sizes, names, reference, max_capture_rms,
-                     min_captures, capture_names, captures_count)
+    _check_arguments(
+        image_points,
+        board,
+        sizes,
+        names,
+        reference,
+        max_capture_rms,
+        min_captures,
+        capture_names,
+        captures_count,
+    )
     sizes = [(int(width), int(height)) for width, height in sizes]
     observed, rejected = _observed_corners(image_points, board)
     objects = board.object_points()
@@ -146,36 +163,64 @@ def calibrate_rig(image_points, board: Board, sizes, *, names: Sequence[str] | N
     for c, name in enumerate(names):
         found = list(np.flatnonzero(np.isfinite(observed[c, :, 0, 0])))
         if len(found) < min_captures:
-            raise DataError(f"board found in {len(found)} of {captures_count} captures"
-                            f"{_listing(found, capture_names, ' (', ')')}; at least "
-                            f"{min_captures} needed", key=name)
-        single, dropped = _calibrate_camera(name, sizes[c], observed[c], found, objects, flags,
-                                            max_capture_rms, min_captures)
+            raise DataError(
+                f"board found in {len(found)} of {captures_count} captures"
+                f"{_listing(found, capture_names, ' (', ')')}; at least "
+                f"{min_captures} needed",
+                key=name,
+            )
+        single, dropped = _calibrate_camera(
+            name, sizes[c], observed[c], found, objects, flags, max_capture_rms, min_captures
+        )
         singles.append(single)
         rejected.update({(c, p): reason for p, reason in dropped.items()})
     used = np.array([np.isfinite(single.board_translations[:, 0]) for single in singles])
 
-    poses, board_rotations, board_translations = _initial_poses(singles, used, reference, names,
-                                                                capture_names)
+    poses, board_rotations, board_translations = _initial_poses(
+        singles, used, reference, names, capture_names
+    )
     cameras, board_rotations, board_translations = _bundle_adjustment(
-        [single.camera for single in singles], poses, board_rotations, board_translations,
-        observed, used, objects, reference, tangential)
+        [single.camera for single in singles],
+        poses,
+        board_rotations,
+        board_translations,
+        observed,
+        used,
+        objects,
+        reference,
+        tangential,
+    )
 
     reprojected = np.full(observed.shape, np.nan)
     for c, camera in enumerate(cameras):
-        reprojected[c, used[c]] = _board_corners(camera, board_rotations[used[c]],
-                                                 board_translations[used[c]], objects)
+        reprojected[c, used[c]] = _board_corners(
+            camera, board_rotations[used[c]], board_translations[used[c]], objects
+        )
     squared = np.sum((reprojected - observed) ** 2, axis=-1)
     return RigCalibration(
-        cameras=cameras, board_rotations=board_rotations, board_translations=board_translations,
-        used=used, rejected=rejected, reprojected=reprojected,
+        cameras=cameras,
+        board_rotations=board_rotations,
+        board_translations=board_translations,
+        used=used,
+        rejected=rejected,
+        reprojected=reprojected,
         rms=np.sqrt(np.nanmean(squared.reshape(cameras_count, -1), axis=1)),
         capture_rms=np.sqrt(np.mean(squared, axis=-1)),
-        intrinsic_rms=np.array([single.rms for single in singles]))
+        intrinsic_rms=np.array([single.rms for single in singles]),
+    )
 
 
-def _check_arguments(image_points, board, sizes, names, reference, max_capture_rms,
-                     min_captures, capture_names, captures_count):
+def _check_arguments(
+    image_points,
+    board,
+    sizes,
+    names,
+    reference,
+    max_capture_rms,
+    min_captures,
+    capture_names,
+    captures_count,
+):
     cameras_count = len(image_points)
     if not isinstance(board, Board):
         raise ValueError(f"board must be a Board, got {type(board).__name__}")
@@ -187,20 +232,23 @@ def _check_arguments(image_points, board, sizes, names, reference, max_capture_r
     if len(names) != cameras_count or len(set(names)) != cameras_count:
         raise ValueError(f"need {cameras_count} distinct camera names, got {names}")
     if not 0 <= reference < cameras_count:
-        raise ValueError(f"reference must be a camera index in [0, {cameras_count}), "
-                         f"got {reference}")
+        raise ValueError(
+            f"reference must be a camera index in [0, {cameras_count}), got {reference}"
+        )
     if not max_capture_rms > 0:
         raise ValueError(f"max_capture_rms must be positive, got {max_capture_rms!r}")
     if min_captures < 2:
-        raise ValueError(f"min_captures must be at least 2 (one view of a plane does not "
-                         f"determine a camera's intrinsics), got {min_captures}")
+        raise ValueError(
+            f"min_captures must be at least 2 (one view of a plane does not "
+            f"determine a camera's intrinsics), got {min_captures}"
+        )
     counts = [len(captures) for captures in image_points]
     if set(counts) != {captures_count} or captures_count == 0:
-        raise ValueError(f"every camera needs the same, non-zero number of captures, got "
-                         f"{counts}")
+        raise ValueError(f"every camera needs the same, non-zero number of captures, got {counts}")
     if capture_names is not None and len(capture_names) != captures_count:
-        raise ValueError(f"capture_names has {len(capture_names)} entries for "
-                         f"{captures_count} captures")
+        raise ValueError(
+            f"capture_names has {len(capture_names)} entries for {captures_count} captures"
+        )
 
 
 def _observed_corners(image_points, board: Board) -> tuple[np.ndarray, dict]:
@@ -218,8 +266,10 @@ def _observed_corners(image_points, board: Board) -> tuple[np.ndarray, dict]:
                 continue
             points = np.asarray(entry, dtype=np.float64)
             if points.shape != (board.corner_count, 2) or not np.all(np.isfinite(points)):
-                raise ValueError(f"image_points[{c}][{p}] must be finite, of shape "
-                                 f"({board.corner_count}, 2), got shape {points.shape}")
+                raise ValueError(
+                    f"image_points[{c}][{p}] must be finite, of shape "
+                    f"({board.corner_count}, 2), got shape {points.shape}"
+                )
             observed[c, p] = points
     return observed, rejected
 
@@ -244,14 +294,15 @@ def _board_corners(camera: Camera, rotations, translations, objects) -> np.ndarr
 
 @dataclass
 class _SingleCamera:
-    camera: Camera                        # K and (k1, k2, p1, p2); R = I, t = 0
+    camera: Camera  # K and (k1, k2, p1, p2); R = I, t = 0
     rms: float
-    board_rotations: np.ndarray           # (P, 3, 3) board to camera, NaN where not kept
-    board_translations: np.ndarray        # (P, 3)
+    board_rotations: np.ndarray  # (P, 3, 3) board to camera, NaN where not kept
+    board_translations: np.ndarray  # (P, 3)
 
 
-def _calibrate_camera(name, size, observed, found, objects, flags, max_capture_rms,
-                      min_captures) -> tuple[_SingleCamera, dict]:
+def _calibrate_camera(
+    name, size, observed, found, objects, flags, max_capture_rms, min_captures
+) -> tuple[_SingleCamera, dict]:
     """``cv2.calibrateCamera`` on the captures in ``found`` (``observed`` of shape
     (P, N, 2)), dropping outliers one at a time, the worst first (one bad capture also
     inflates the others' errors). Returns the camera and ``{capture: reason}`` of the
@@ -259,8 +310,14 @@ def _calibrate_camera(name, size, observed, found, objects, flags, max_capture_r
     kept, dropped = list(found), {}
     while True:
         rms, K, distortion, rvecs, tvecs = _single_threaded(
-            cv2.calibrateCamera, [objects.astype(np.float32)] * len(kept),
-            list(observed[kept].astype(np.float32)), size, None, None, flags=flags)
+            cv2.calibrateCamera,
+            [objects.astype(np.float32)] * len(kept),
+            list(observed[kept].astype(np.float32)),
+            size,
+            None,
+            None,
+            flags=flags,
+        )
         camera = Camera(name, K=K, distortion=distortion.ravel()[:4], size=size)
         rotations = np.full((len(observed), 3, 3), np.nan)
         translations = np.full((len(observed), 3), np.nan)
@@ -269,14 +326,22 @@ def _calibrate_camera(name, size, observed, found, objects, flags, max_capture_r
         projected = _board_corners(camera, rotations[kept], translations[kept], objects)
         errors = np.sqrt(np.mean(np.sum((projected - observed[kept]) ** 2, axis=-1), axis=-1))
         worst, median = int(np.argmax(errors)), float(np.median(errors))
-        if (len(kept) <= min_captures or errors[worst] <= max_capture_rms
-                or errors[worst] <= _OUTLIER_FACTOR * median):
-            return _SingleCamera(camera=camera, rms=float(rms), board_rotations=rotations,
-                                 board_translations=translations), dropped
+        if (
+            len(kept) <= min_captures
+            or errors[worst] <= max_capture_rms
+            or errors[worst] <= _OUTLIER_FACTOR * median
+        ):
+            return _SingleCamera(
+                camera=camera,
+                rms=float(rms),
+                board_rotations=rotations,
+                board_translations=translations,
+            ), dropped
         dropped[kept[worst]] = (
             f"reprojection RMS {errors[worst]:.2f} px in the calibration of {name} alone, "
             f"above {max_capture_rms:g} px and {_OUTLIER_FACTOR:g} times the median "
-            f"{median:.2f} px")
+            f"{median:.2f} px"
+        )
         del kept[worst]
 
 
@@ -310,20 +375,34 @@ def _initial_poses(singles, used, reference, names, capture_names):
             for other in np.flatnonzero(used[:, p]):
                 if other not in poses:
                     other_rotation = singles[other].board_rotations[p] @ board_rotations[p].T
-                    poses[other] = (other_rotation, singles[other].board_translations[p]
-                                    - other_rotation @ board_translations[p])
+                    poses[other] = (
+                        other_rotation,
+                        singles[other].board_translations[p]
+                        - other_rotation @ board_translations[p],
+                    )
                     queue.append(other)
     for c, name in enumerate(names):
         if c not in poses:
             connected = ", ".join(names[other] for other in sorted(poses))
-            raise DataError(f"never sees the board together with {connected} (it sees it in "
-                            f"{_listing(list(np.flatnonzero(used[c])), capture_names)})",
-                            key=name)
+            raise DataError(
+                f"never sees the board together with {connected} (it sees it in "
+                f"{_listing(list(np.flatnonzero(used[c])), capture_names)})",
+                key=name,
+            )
     return poses, board_rotations, board_translations
 
 
-def _bundle_adjustment(cameras, poses, board_rotations, board_translations, observed, used,
-                       objects, reference, tangential):
+def _bundle_adjustment(
+    cameras,
+    poses,
+    board_rotations,
+    board_translations,
+    observed,
+    used,
+    objects,
+    reference,
+    tangential,
+):
     """Refine every camera's intrinsics, distortion and pose (the reference's stays the
     identity) and every board pose by least squares over all used corners.
 
@@ -333,17 +412,23 @@ def _bundle_adjustment(cameras, poses, board_rotations, board_translations, obse
     captures = np.flatnonzero(used.any(axis=0))
 
     def intrinsics_of(camera):
-        return np.concatenate([[camera.fx, camera.fy, camera.cx, camera.cy],
-                               camera.distortion[:intrinsic_count - 4]])
+        return np.concatenate(
+            [[camera.fx, camera.fy, camera.cx, camera.cy], camera.distortion[: intrinsic_count - 4]]
+        )
 
     def pose_vectors(rotations, translations):
         return np.hstack([Rotation.from_matrix(rotations).as_rotvec(), translations]).ravel()
 
     x0 = np.concatenate(
         [intrinsics_of(camera) for camera in cameras]
-        + [pose_vectors(np.reshape([poses[c][0] for c in moving], (-1, 3, 3)),
-                        np.reshape([poses[c][1] for c in moving], (-1, 3)))]
-        + [pose_vectors(board_rotations[captures], board_translations[captures])])
+        + [
+            pose_vectors(
+                np.reshape([poses[c][0] for c in moving], (-1, 3, 3)),
+                np.reshape([poses[c][1] for c in moving], (-1, 3)),
+            )
+        ]
+        + [pose_vectors(board_rotations[captures], board_translations[captures])]
+    )
     pose_column = {c: intrinsic_count * len(cameras) + 6 * i for i, c in enumerate(moving)}
     board_start = intrinsic_count * len(cameras) + 6 * len(moving)
     board_column = dict(zip(captures, board_start + 6 * np.arange(len(captures))))
@@ -351,15 +436,21 @@ def _bundle_adjustment(cameras, poses, board_rotations, board_translations, obse
     def unpack(x):
         rig = []
         for c, camera in enumerate(cameras):
-            fx, fy, cx, cy, *distortion = x[intrinsic_count * c:intrinsic_count * (c + 1)]
+            fx, fy, cx, cy, *distortion = x[intrinsic_count * c : intrinsic_count * (c + 1)]
             rotation, translation = np.eye(3), np.zeros(3)
             if c != reference:
-                vector = x[pose_column[c]:pose_column[c] + 6]
+                vector = x[pose_column[c] : pose_column[c] + 6]
                 rotation, translation = Rotation.from_rotvec(vector[:3]).as_matrix(), vector[3:]
-            rig.append(Camera(camera.name, K=[[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]],
-                              R=rotation, t=-rotation.T @ translation,
-                              distortion=np.pad(distortion, (0, 4 - len(distortion))),
-                              size=camera.size))
+            rig.append(
+                Camera(
+                    camera.name,
+                    K=[[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]],
+                    R=rotation,
+                    t=-rotation.T @ translation,
+                    distortion=np.pad(distortion, (0, 4 - len(distortion))),
+                    size=camera.size,
+                )
+            )
         rotations = np.full((used.shape[1], 3, 3), np.nan)
         translations = np.full((used.shape[1], 3), np.nan)
         vectors = x[board_start:].reshape(-1, 6)
@@ -371,8 +462,10 @@ def _bundle_adjustment(cameras, poses, board_rotations, board_translations, obse
 
     def residuals(x):
         rig, rotations, translations = unpack(x)
-        projected = [_board_corners(camera, rotations[used[c]], translations[used[c]], objects)
-                     for c, camera in enumerate(rig)]
+        projected = [
+            _board_corners(camera, rotations[used[c]], translations[used[c]], objects)
+            for c, camera in enumerate(rig)
+        ]
         return np.concatenate([corners.ravel() for corners in projected]) - target
 
     # The rows of an observation, 2 N residuals (u, v per corner, in the order of
@@ -385,15 +478,25 @@ def _bundle_adjustment(cameras, poses, board_rotations, board_translations, obse
         if c != reference:
             parameters += range(pose_column[c], pose_column[c] + 6)
         parameters += range(board_column[p], board_column[p] + 6)
-        rows.append(np.repeat(np.arange(o * rows_per_observation,
-                                        (o + 1) * rows_per_observation), len(parameters)))
+        rows.append(
+            np.repeat(
+                np.arange(o * rows_per_observation, (o + 1) * rows_per_observation), len(parameters)
+            )
+        )
         columns.append(np.tile(parameters, rows_per_observation))
     rows, columns = np.concatenate(rows), np.concatenate(columns)
-    sparsity = csr_matrix((np.ones(len(rows), dtype=np.int8), (rows, columns)),
-                          shape=(len(target), len(x0)))
+    sparsity = csr_matrix(
+        (np.ones(len(rows), dtype=np.int8), (rows, columns)), shape=(len(target), len(x0))
+    )
     # lsmr stopped at its default min(m, n) iterations leaves the Gauss-Newton step
     # unfinished on this ill-conditioned problem (focal length against distance):
     # 30-40 outer iterations instead of the 4 a dense solver takes to the same minimum.
-    solution = least_squares(residuals, x0, jac_sparsity=sparsity, method="trf", x_scale="jac",
-                             tr_options={"atol": 1e-12, "btol": 1e-12, "maxiter": 10 * len(x0)})
+    solution = least_squares(
+        residuals,
+        x0,
+        jac_sparsity=sparsity,
+        method="trf",
+        x_scale="jac",
+        tr_options={"atol": 1e-12, "btol": 1e-12, "maxiter": 10 * len(x0)},
+    )
     return unpack(solution.x)

@@ -8,18 +8,27 @@ they name are then found and the cameras they name are read.
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Iterable, Mapping
+from typing import Any
 
 from mvtools.cli.inputs import frame_range
 from mvtools.errors import ConfigError, DataError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import get_camera
+from mvtools.io.config import (
+    COMMAND_LINE,
+    ConfigEntry,
+    load_params,
+    override_entries,
+    param_entry,
+    parse_overrides,
+    read_config,
+    resolve_input_path,
+    resolve_output_path,
+)
 from mvtools.io.json_cameras import read_camera_file
-from mvtools.io.config import (COMMAND_LINE, ConfigEntry, load_params, override_entries,
-                               param_entry, parse_overrides, read_config, resolve_input_path,
-                               resolve_output_path)
 from mvtools.io.yuv import VideoReader, YuvFormat, format_from_name, open_video
 from mvtools.params import Kind, param_specs
 
@@ -71,13 +80,15 @@ class LoadedConfig:
         it: ``--start-frame``, or the key with its file and line."""
         params = self.params
         given = None if "start_frame" in self.options else param_entry(params, "start_frame")
-        return frame_range(readers, params.start_frame, params.total_number_of_frames,
-                           start_given=given)
+        return frame_range(
+            readers, params.start_frame, params.total_number_of_frames, start_given=given
+        )
 
     def command_line_camera(self, name: str, label: str) -> Camera:
         """A camera of the camera file named on the command line by the option ``label``."""
-        return get_camera(self.all_cameras, name,
-                          path=self.inputs.get(self.params.camera_file_field), key=label)
+        return get_camera(
+            self.all_cameras, name, path=self.inputs.get(self.params.camera_file_field), key=label
+        )
 
 
 def command_line_input(label: str, value: str, data_dirs: Iterable[str | os.PathLike]) -> Path:
@@ -102,15 +113,24 @@ def video_format_for(path: Path, size: tuple[int, int], *, key: str | None = Non
     if named is None:
         return YuvFormat(*size)
     if named.size != size:
-        raise DataError(f"the file name says {named.width}x{named.height}, the configuration "
-                        f"{size[0]}x{size[1]} (SourceWidth, SourceHeight)", path=path, key=key)
+        raise DataError(
+            f"the file name says {named.width}x{named.height}, the configuration "
+            f"{size[0]}x{size[1]} (SourceWidth, SourceHeight)",
+            path=path,
+            key=key,
+        )
     return named
 
 
-def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Iterable[str] = (),
-                options: Mapping[str, Any] | None = None,
-                data_dirs: Iterable[str | os.PathLike] = (),
-                transposed_rotation: bool = False) -> LoadedConfig:
+def load_config(
+    cls: type,
+    config: str | os.PathLike | None,
+    *,
+    overrides: Iterable[str] = (),
+    options: Mapping[str, Any] | None = None,
+    data_dirs: Iterable[str | os.PathLike] = (),
+    transposed_rotation: bool = False,
+) -> LoadedConfig:
     """Read parameters of ``cls`` and find their files and cameras.
 
     The camera parameter file is an MPEG text file, or MPEG-I JSON when its name
@@ -126,15 +146,18 @@ def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Itera
     entries.update(parse_overrides(overrides))
     entries.update(override_entries(cls, options or {}))
     params = load_params(cls, entries)
-    loaded = LoadedConfig(params, options=frozenset(
-        name for name, value in (options or {}).items() if value is not None))
+    loaded = LoadedConfig(
+        params,
+        options=frozenset(name for name, value in (options or {}).items() if value is not None),
+    )
     data_dirs = tuple(data_dirs)
     for spec in param_specs(cls):
         if not getattr(params, spec.name):
             continue
         if spec.kind is Kind.INPUT_FILE:
-            loaded.inputs[spec.name] = resolve_input_path(param_entry(params, spec.name),
-                                                          data_dirs=data_dirs)
+            loaded.inputs[spec.name] = resolve_input_path(
+                param_entry(params, spec.name), data_dirs=data_dirs
+            )
         elif spec.kind is Kind.OUTPUT_FILE:
             loaded.outputs[spec.name] = resolve_output_path(param_entry(params, spec.name))
     camera_file = loaded.inputs.get(cls.camera_file_field)
@@ -149,5 +172,6 @@ def load_config(cls: type, config: str | os.PathLike | None, *, overrides: Itera
                 except ConfigError as error:
                     # Point at the configuration line that asked for the camera.
                     raise param_entry(params, spec.name).error(
-                        f"{error.message} (in {camera_file})") from None
+                        f"{error.message} (in {camera_file})"
+                    ) from None
     return loaded

@@ -49,32 +49,80 @@ VIDEO_EXTENSIONS = (".yuv", ".y4m")
 
 @click.command(name="convert", cls=ProgramCommand)
 @click.argument("inputs", nargs=-1, required=True, type=click.Path(dir_okay=False))
-@click.option("-o", "--output", required=True, type=click.Path(dir_okay=False),
-              help="Output: a .yuv/.y4m video, or an image name with a frame number pattern "
-                   "(frame_%03d.png, z_%03d.pfm) for one image per frame.")
+@click.option(
+    "-o",
+    "--output",
+    required=True,
+    type=click.Path(dir_okay=False),
+    help="Output: a .yuv/.y4m video, or an image name with a frame number pattern "
+    "(frame_%03d.png, z_%03d.pfm) for one image per frame.",
+)
 @video_format_options
 @frame_range_options
-@click.option("--out-pix-fmt", default=None, metavar="NAME",
-              help="Pixel format of a video output (default: the input's, or yuv420p for images).")
-@click.option("--depth", is_flag=True,
-              help="The video is a depth map: only luma counts, bit-depth changes keep "
-                   "v / vmax, chroma of the output is mid-grey, PNG output is grey.")
-@click.option("--preview", is_flag=True,
-              help="8-bit preview images: RGB of texture frames, colour-mapped depth with --depth.")
-@click.option("--to", "to_quantity", type=click.Choice(["z", "disparity"]), default=None,
-              help="Depth video -> PFM images of z, or of disparity (needs --focal, --baseline).")
-@click.option("--from", "from_quantity", type=click.Choice(["z", "disparity"]), default=None,
-              help="PFM images of z or disparity -> depth video.")
+@click.option(
+    "--out-pix-fmt",
+    default=None,
+    metavar="NAME",
+    help="Pixel format of a video output (default: the input's, or yuv420p for images).",
+)
+@click.option(
+    "--depth",
+    is_flag=True,
+    help="The video is a depth map: only luma counts, bit-depth changes keep "
+    "v / vmax, chroma of the output is mid-grey, PNG output is grey.",
+)
+@click.option(
+    "--preview",
+    is_flag=True,
+    help="8-bit preview images: RGB of texture frames, colour-mapped depth with --depth.",
+)
+@click.option(
+    "--to",
+    "to_quantity",
+    type=click.Choice(["z", "disparity"]),
+    default=None,
+    help="Depth video -> PFM images of z, or of disparity (needs --focal, --baseline).",
+)
+@click.option(
+    "--from",
+    "from_quantity",
+    type=click.Choice(["z", "disparity"]),
+    default=None,
+    help="PFM images of z or disparity -> depth video.",
+)
 @click.option("--znear", type=DEPTH, default=None, help="Depth of the largest depth value.")
 @click.option("--zfar", type=DEPTH, default=None, help="Depth of depth value 0.")
 @click.option("--focal", type=FINITE, default=None, help="Focal length in pixels (disparity).")
-@click.option("--baseline", type=FINITE, default=None, help="Baseline, in the units of z (disparity).")
-@click.option("--fps", type=POSITIVE, default=None,
-              help=f"Fps of MPEG-I JSON cameras (default: the input's, else {DEFAULT_FPS}).")
+@click.option(
+    "--baseline", type=FINITE, default=None, help="Baseline, in the units of z (disparity)."
+)
+@click.option(
+    "--fps",
+    type=POSITIVE,
+    default=None,
+    help=f"Fps of MPEG-I JSON cameras (default: the input's, else {DEFAULT_FPS}).",
+)
 @transposed_rotation_option
 @program
-def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt, depth, preview,
-            to_quantity, from_quantity, znear, zfar, focal, baseline, fps, transposed_rotation):
+def command(
+    inputs,
+    output,
+    size,
+    pix_fmt,
+    start_frame,
+    frame_count,
+    out_pix_fmt,
+    depth,
+    preview,
+    to_quantity,
+    from_quantity,
+    znear,
+    zfar,
+    focal,
+    baseline,
+    fps,
+    transposed_rotation,
+):
     """Convert INPUTS into OUTPUT.
 
     \b
@@ -98,58 +146,97 @@ def command(inputs, output, size, pix_fmt, start_frame, frame_count, out_pix_fmt
         return
     out_is_video = output.suffix.lower() in VIDEO_EXTENSIONS
     if not out_is_video and output.suffix.lower() not in IMAGE_EXTENSIONS:
-        raise UsageError(f"unknown output type {output.suffix!r}: use .yuv, .y4m or an image "
-                         f"extension ({', '.join(IMAGE_EXTENSIONS)})", path=output)
+        raise UsageError(
+            f"unknown output type {output.suffix!r}: use .yuv, .y4m or an image "
+            f"extension ({', '.join(IMAGE_EXTENSIONS)})",
+            path=output,
+        )
     if to_quantity is not None and from_quantity is not None:
-        raise UsageError("--to writes PFM images of a depth video, --from reads them: give one",
-                         key="--to/--from")
+        raise UsageError(
+            "--to writes PFM images of a depth video, --from reads them: give one",
+            key="--to/--from",
+        )
     if first.suffix.lower() in VIDEO_EXTENSIONS:
         if len(inputs) > 1:
             raise UsageError("give one video input at a time")
         if from_quantity is not None:
-            raise UsageError("the input is a video, and --from reads PFM images of z or "
-                             "disparity (--to writes them)", path=first, key="--from")
+            raise UsageError(
+                "the input is a video, and --from reads PFM images of z or "
+                "disparity (--to writes them)",
+                path=first,
+                key="--from",
+            )
         if not out_is_video:
             _check_frame_pattern(output)
         if to_quantity is not None:
-            _depth_video_to_pfm(first, size, pix_fmt, start_frame, frame_count, output,
-                                to_quantity, _range(znear, zfar), focal, baseline)
+            _depth_video_to_pfm(
+                first,
+                size,
+                pix_fmt,
+                start_frame,
+                frame_count,
+                output,
+                to_quantity,
+                _range(znear, zfar),
+                focal,
+                baseline,
+            )
         elif out_is_video:
-            _video_to_video(first, size, pix_fmt, start_frame, frame_count, output,
-                            out_pix_fmt, depth)
+            _video_to_video(
+                first, size, pix_fmt, start_frame, frame_count, output, out_pix_fmt, depth
+            )
         else:
             _video_to_images(first, size, pix_fmt, start_frame, frame_count, output, depth, preview)
         return
     if not out_is_video:
         raise UsageError("images convert to a .yuv or .y4m video", path=output)
     if to_quantity is not None:
-        raise UsageError("the input is not a video, and --to writes PFM images of a depth "
-                         "video (--from reads them)", path=first, key="--to")
+        raise UsageError(
+            "the input is not a video, and --to writes PFM images of a depth "
+            "video (--from reads them)",
+            path=first,
+            key="--to",
+        )
     if from_quantity is not None:
-        _pfm_to_depth_video(inputs, output, out_pix_fmt or "yuv420p", from_quantity,
-                            _range(znear, zfar), focal, baseline)
+        _pfm_to_depth_video(
+            inputs,
+            output,
+            out_pix_fmt or "yuv420p",
+            from_quantity,
+            _range(znear, zfar),
+            focal,
+            baseline,
+        )
     else:
         _images_to_video(inputs, output, out_pix_fmt or "yuv420p")
 
 
-def _convert_cameras(inputs, output: Path, size, znear, zfar, fps, frame_count,
-                     transposed_rotation):
+def _convert_cameras(
+    inputs, output: Path, size, znear, zfar, fps, frame_count, transposed_rotation
+):
     if len(inputs) != 1:
         raise UsageError("give one camera file at a time")
     source = Path(inputs[0])
     depth_range = _camera_depth_range(znear, zfar)
     if source.suffix.lower() != ".json":
-        write_json_cameras(output, read_cameras(source, transposed_rotation=transposed_rotation),
-                           size=size, depth_range=depth_range, fps=fps or DEFAULT_FPS,
-                           frame_count=frame_count or 1)
+        write_json_cameras(
+            output,
+            read_cameras(source, transposed_rotation=transposed_rotation),
+            size=size,
+            depth_range=depth_range,
+            fps=fps or DEFAULT_FPS,
+            frame_count=frame_count or 1,
+        )
     elif output.suffix.lower() != ".json":
         write_cameras(output, read_json_cameras(source), transposed_rotation=transposed_rotation)
     else:
         sequence = read_json_sequence(source)
-        sequence.cameras = {name: replace(camera,
-                                          size=size or camera.size,
-                                          depth_range=depth_range or camera.depth_range)
-                            for name, camera in sequence.cameras.items()}
+        sequence.cameras = {
+            name: replace(
+                camera, size=size or camera.size, depth_range=depth_range or camera.depth_range
+            )
+            for name, camera in sequence.cameras.items()
+        }
         sequence.fps = fps or sequence.fps
         sequence.frame_count = frame_count or sequence.frame_count
         write_json_sequence(output, sequence)
@@ -197,32 +284,46 @@ def _check_frame_pattern(pattern: Path) -> None:
         return
     name = pattern.name.replace("%%", "")
     if len(_FRAME_FIELD.findall(name)) != 1 or "%" in _FRAME_FIELD.sub("", name):
-        raise UsageError("a numbered output name holds one frame number field such as %03d "
-                         "(and %% for a % sign)", path=pattern, key="-o")
+        raise UsageError(
+            "a numbered output name holds one frame number field such as %03d "
+            "(and %% for a % sign)",
+            path=pattern,
+            key="-o",
+        )
 
 
 def _frame_name(pattern: Path, index: int, count: int) -> Path:
     if "%" in pattern.name:
         return pattern.with_name(pattern.name % index)
     if count > 1:
-        raise UsageError("several frames need a numbered output name such as frame_%03d.png",
-                         path=pattern, key="-o")
+        raise UsageError(
+            "several frames need a numbered output name such as frame_%03d.png",
+            path=pattern,
+            key="-o",
+        )
     return pattern
 
 
 def _video_to_video(path, size, pix_fmt, start, count, output, out_pix_fmt, depth):
     with open_input_video(path, size, pix_fmt) as video:
         source = video.format
-        target = YuvFormat.from_pix_fmt(source.width, source.height, out_pix_fmt) \
-            if out_pix_fmt else source
+        target = (
+            YuvFormat.from_pix_fmt(source.width, source.height, out_pix_fmt)
+            if out_pix_fmt
+            else source
+        )
         frames = frame_range([video], start, count)
         progress = Progress(len(frames), "frames converted")
         with open_writer(output, target, frame_rate=video.frame_rate) as writer:
             for index in frames:
                 with _samples_of(path, index):
-                    planes = convert_planes(video.read(index), bits=source.bits,
-                                            to_chroma=target.chroma, to_bits=target.bits,
-                                            depth=depth)
+                    planes = convert_planes(
+                        video.read(index),
+                        bits=source.bits,
+                        to_chroma=target.chroma,
+                        to_bits=target.bits,
+                        depth=depth,
+                    )
                 writer.write(planes)
                 progress.advance()
 
@@ -244,8 +345,9 @@ def _video_to_images(path, size, pix_fmt, start, count, output, depth, preview):
             progress.advance()
 
 
-def _depth_video_to_pfm(path, size, pix_fmt, start, count, output, quantity, depth_range,
-                        focal, baseline):
+def _depth_video_to_pfm(
+    path, size, pix_fmt, start, count, output, quantity, depth_range, focal, baseline
+):
     if output.suffix.lower() != ".pfm":
         raise UsageError("--to writes PFM images (e.g. z_%03d.pfm)", path=output)
     if quantity == "disparity":
@@ -274,8 +376,11 @@ def _pfm_to_depth_video(inputs, output, out_pix_fmt, quantity, depth_range, foca
                 writer.start(target)
             _check_size(values.shape, target, path)
             with _samples_of(path):
-                z = values if quantity == "z" else (depth_sign(*depth_range)
-                                                    * disparity_to_z(values, focal, baseline))
+                z = (
+                    values
+                    if quantity == "z"
+                    else (depth_sign(*depth_range) * disparity_to_z(values, focal, baseline))
+                )
                 luma = z_to_depth(z, *depth_range, bits=target.bits)
             writer.write(frame_from_luma(target, luma))
 
@@ -291,16 +396,21 @@ def _images_to_video(inputs, output, out_pix_fmt):
             _check_size(image.shape, target, path)
             if image.ndim == 2:
                 bits = 8 if image.dtype == np.uint8 else 16
-                writer.write(convert_planes((image,), bits=bits, to_chroma=target.chroma,
-                                            to_bits=target.bits))
+                writer.write(
+                    convert_planes(
+                        (image,), bits=bits, to_chroma=target.chroma, to_bits=target.bits
+                    )
+                )
             else:
                 writer.write(rgb_to_yuv(image, chroma=target.chroma, bits=target.bits))
 
 
 def _check_size(shape, target: YuvFormat, path) -> None:
     if (shape[1], shape[0]) != target.size:
-        raise DataError(f"image is {shape[1]}x{shape[0]}, the first one {target.width}x{target.height}",
-                        path=path)
+        raise DataError(
+            f"image is {shape[1]}x{shape[0]}, the first one {target.width}x{target.height}",
+            path=path,
+        )
 
 
 class _video_writer_for_images:

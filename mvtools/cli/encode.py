@@ -36,41 +36,102 @@ from mvtools.params import VsrsParams, param_specs
 
 LOG = logging.getLogger("mvtools")
 MODES = ("simulcast", "packed")
-_SYNTHESIS_INPUTS = {"left_camera_name": ("left_view_image_name", "left_depth_map_name"),
-                     "right_camera_name": ("right_view_image_name", "right_depth_map_name")}
+_SYNTHESIS_INPUTS = {
+    "left_camera_name": ("left_view_image_name", "left_depth_map_name"),
+    "right_camera_name": ("right_view_image_name", "right_depth_map_name"),
+}
 
 
 @click.command(name="encode", cls=ProgramCommand)
-@click.option("--view", "views", multiple=True, nargs=2, required=True, metavar="NAME VIDEO",
-              help="A texture view (repeatable).")
-@click.option("--depth", "depths", multiple=True, nargs=2, metavar="NAME VIDEO",
-              help="A view's depth map (repeatable): simulcast codes it as a stream of its own, "
-                   "packing puts it into the atlas.")
-@click.option("--qp", "qps", multiple=True, type=click.IntRange(0, 51), required=True,
-              help="A quantisation parameter (repeatable; four or more give Bjontegaard deltas).")
-@click.option("--mode", "modes", multiple=True, type=click.Choice(MODES),
-              help="simulcast: every view and depth map coded on its own; packed: all in one "
-                   "grid (or atlas with depth maps) coded as one video (repeatable; default "
-                   "both, compared by their Bjontegaard deltas).")
-@click.option("--depth-qp-offset", type=int, default=0, show_default=True,
-              help="QP of the depth streams relative to the textures' (simulcast).")
-@click.option("--encoder", type=click.Choice(ENCODERS), default="x265", show_default=True,
-              help="x265 (Debian package x265) or ffmpeg's libx265 (package ffmpeg); ffmpeg "
-                   "decodes in both cases.")
+@click.option(
+    "--view",
+    "views",
+    multiple=True,
+    nargs=2,
+    required=True,
+    metavar="NAME VIDEO",
+    help="A texture view (repeatable).",
+)
+@click.option(
+    "--depth",
+    "depths",
+    multiple=True,
+    nargs=2,
+    metavar="NAME VIDEO",
+    help="A view's depth map (repeatable): simulcast codes it as a stream of its own, "
+    "packing puts it into the atlas.",
+)
+@click.option(
+    "--qp",
+    "qps",
+    multiple=True,
+    type=click.IntRange(0, 51),
+    required=True,
+    help="A quantisation parameter (repeatable; four or more give Bjontegaard deltas).",
+)
+@click.option(
+    "--mode",
+    "modes",
+    multiple=True,
+    type=click.Choice(MODES),
+    help="simulcast: every view and depth map coded on its own; packed: all in one "
+    "grid (or atlas with depth maps) coded as one video (repeatable; default "
+    "both, compared by their Bjontegaard deltas).",
+)
+@click.option(
+    "--depth-qp-offset",
+    type=int,
+    default=0,
+    show_default=True,
+    help="QP of the depth streams relative to the textures' (simulcast).",
+)
+@click.option(
+    "--encoder",
+    type=click.Choice(ENCODERS),
+    default="x265",
+    show_default=True,
+    help="x265 (Debian package x265) or ffmpeg's libx265 (package ffmpeg); ffmpeg "
+    "decodes in both cases.",
+)
 @click.option("--preset", default="medium", show_default=True, help="x265 preset.")
-@click.option("--fps", type=POSITIVE, default=25.0,
-              show_default=True, help="Frame rate, for the bitrates.")
-@click.option("--synthesize", "synthesis_config", type=click.Path(dir_okay=False), default=None,
-              help="A VSRS configuration whose reference views are among the views: its "
-                   "virtual view is synthesized from the decoded views and depth maps and scored "
-                   "(PSNR, IV-PSNR) against the one synthesized from the originals.")
-@click.option("-o", "--out-dir", required=True, type=click.Path(file_okay=False),
-              help="Folder for the bitstreams, decoded videos and report.json.")
+@click.option(
+    "--fps", type=POSITIVE, default=25.0, show_default=True, help="Frame rate, for the bitrates."
+)
+@click.option(
+    "--synthesize",
+    "synthesis_config",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="A VSRS configuration whose reference views are among the views: its "
+    "virtual view is synthesized from the decoded views and depth maps and scored "
+    "(PSNR, IV-PSNR) against the one synthesized from the originals.",
+)
+@click.option(
+    "-o",
+    "--out-dir",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Folder for the bitstreams, decoded videos and report.json.",
+)
 @video_format_options
 @frame_range_options
 @program
-def command(views, depths, qps, modes, depth_qp_offset, encoder, preset, fps, synthesis_config,
-            out_dir, size, pix_fmt, start_frame, frame_count):
+def command(
+    views,
+    depths,
+    qps,
+    modes,
+    depth_qp_offset,
+    encoder,
+    preset,
+    fps,
+    synthesis_config,
+    out_dir,
+    size,
+    pix_fmt,
+    start_frame,
+    frame_count,
+):
     """Encode the views at every QP, decode them, and report per QP the bitrate and the
     Y-PSNR and YUV-PSNR (6:1:1) of every view; with two modes, the Bjontegaard deltas of
     packing against simulcast (BD-rate and BD-PSNR, cubic and piecewise-cubic)."""
@@ -86,8 +147,10 @@ def command(views, depths, qps, modes, depth_qp_offset, encoder, preset, fps, sy
         raise UsageError("a view or depth map is given twice")
     synthesis = _synthesis_inputs(synthesis_config, streams) if synthesis_config else None
     with contextlib.ExitStack() as stack:
-        videos = {(name, kind): stack.enter_context(open_input_video(path, size, pix_fmt))
-                  for name, kind, path in streams}
+        videos = {
+            (name, kind): stack.enter_context(open_input_video(path, size, pix_fmt))
+            for name, kind, path in streams
+        }
         frames = frame_range(list(videos.values()), start_frame, frame_count)
         _check_formats(videos)
         out.mkdir(parents=True, exist_ok=True)
@@ -99,12 +162,21 @@ def command(views, depths, qps, modes, depth_qp_offset, encoder, preset, fps, sy
             folder = out / mode / f"qp{qp}"
             folder.mkdir(parents=True, exist_ok=True)
             run = _simulcast if mode == "simulcast" else _packed
-            point = run(originals, folder, qp=qp, depth_qp_offset=depth_qp_offset,
-                        encoder=encoder, preset=preset, fps=fps, frames=len(frames))
+            point = run(
+                originals,
+                folder,
+                qp=qp,
+                depth_qp_offset=depth_qp_offset,
+                encoder=encoder,
+                preset=preset,
+                fps=fps,
+                frames=len(frames),
+            )
             point["scores"] = _scores(originals, point["decoded"])
             if synthesis is not None:
-                point["synthesis"] = _synthesis_scores(synthesis, point["decoded"], out, folder,
-                                                       len(frames))
+                point["synthesis"] = _synthesis_scores(
+                    synthesis, point["decoded"], out, folder, len(frames)
+                )
             results.setdefault(mode, []).append({"qp": qp, **point})
             progress.advance()
     report = _report(results, modes, qps)
@@ -117,9 +189,11 @@ def command(views, depths, qps, modes, depth_qp_offset, encoder, preset, fps, sy
 def _check_formats(videos) -> None:
     for (name, kind), video in videos.items():
         if video.format.bits > 12:
-            raise DataError(f"{kind} {name} has {video.format.bits}-bit samples; HEVC codes 8 "
-                            "to 12 bits: convert it with mvtools convert --out-pix-fmt",
-                            path=video.path)
+            raise DataError(
+                f"{kind} {name} has {video.format.bits}-bit samples; HEVC codes 8 "
+                "to 12 bits: convert it with mvtools convert --out-pix-fmt",
+                path=video.path,
+            )
 
 
 def _trimmed(videos, frames, folder: Path) -> dict:
@@ -148,33 +222,46 @@ def _simulcast(originals, folder, *, qp, depth_qp_offset, encoder, preset, fps, 
     sizes, decoded = {}, {}
     for key, (path, fmt) in originals.items():
         stream_qp = min(51, max(0, qp + (depth_qp_offset if key[1] == "depth" else 0)))
-        sizes[key], decoded[key] = _code(path, fmt, folder, qp=stream_qp, encoder=encoder,
-                                         preset=preset, fps=fps)
+        sizes[key], decoded[key] = _code(
+            path, fmt, folder, qp=stream_qp, encoder=encoder, preset=preset, fps=fps
+        )
     seconds = frames / fps
-    rates = {kind: sum(size for (_, k), size in sizes.items() if k == kind) * 8 / seconds / 1000
-             for kind in ("texture", "depth")}
-    return {"kbps": rates["texture"] + rates["depth"], "texture_kbps": rates["texture"],
-            "depth_kbps": rates["depth"], "decoded": decoded}
+    rates = {
+        kind: sum(size for (_, k), size in sizes.items() if k == kind) * 8 / seconds / 1000
+        for kind in ("texture", "depth")
+    }
+    return {
+        "kbps": rates["texture"] + rates["depth"],
+        "texture_kbps": rates["texture"],
+        "depth_kbps": rates["depth"],
+        "decoded": decoded,
+    }
 
 
 def _packed(originals, folder, *, qp, depth_qp_offset, encoder, preset, fps, frames) -> dict:
-    textures = [(name, fmt.size) for (name, kind), (_, fmt) in originals.items()
-                if kind == "texture"]
-    depth_maps = [(name, fmt.size) for (name, kind), (_, fmt) in originals.items()
-                  if kind == "depth"]
+    textures = [
+        (name, fmt.size) for (name, kind), (_, fmt) in originals.items() if kind == "texture"
+    ]
+    depth_maps = [
+        (name, fmt.size) for (name, kind), (_, fmt) in originals.items() if kind == "depth"
+    ]
     layout = plan_layout(textures, layout="atlas" if depth_maps else "grid", depths=depth_maps)
     texture_format = next(fmt for (_, kind), (_, fmt) in originals.items() if kind == "texture")
-    packed_format = YuvFormat(layout.width, layout.height, chroma=texture_format.chroma,
-                              bits=texture_format.bits)
+    packed_format = YuvFormat(
+        layout.width, layout.height, chroma=texture_format.chroma, bits=texture_format.bits
+    )
     packed = folder / f"packed_{layout.width}x{layout.height}_{packed_format.pix_fmt}.yuv"
     with contextlib.ExitStack() as stack:
-        readers = {key: stack.enter_context(open_video(path, fmt))
-                   for key, (path, fmt) in originals.items()}
+        readers = {
+            key: stack.enter_context(open_video(path, fmt))
+            for key, (path, fmt) in originals.items()
+        }
         with write_packed(readers, layout, packed_format, packed, range(frames)):
             pass
     (folder / "decoded").mkdir(exist_ok=True)
-    size, decoded_packed = _code(packed, packed_format, folder / "decoded", qp=qp,
-                                 encoder=encoder, preset=preset, fps=fps)
+    size, decoded_packed = _code(
+        packed, packed_format, folder / "decoded", qp=qp, encoder=encoder, preset=preset, fps=fps
+    )
     targets = {key: (folder / path.name, fmt) for key, (path, fmt) in originals.items()}
     with open_video(decoded_packed, packed_format) as video:
         write_unpacked(video, layout, targets, range(frames))
@@ -189,8 +276,7 @@ def _scores(originals, decoded) -> dict:
     for key, (path, fmt) in originals.items():
         with open_video(path, fmt) as reference, open_video(decoded[key], fmt) as test:
             mean = score_videos(reference, test, range(len(reference)), ("psnr",))["mean"]
-        scores[f"{key[0]} {key[1]}"] = {"y_psnr": mean["Y-PSNR"],
-                                        "yuv_psnr": mean.get("YUV-PSNR")}
+        scores[f"{key[0]} {key[1]}"] = {"y_psnr": mean["Y-PSNR"], "yuv_psnr": mean.get("YUV-PSNR")}
     return scores
 
 
@@ -203,8 +289,10 @@ def _synthesis_inputs(config: str, streams) -> dict:
         camera = getattr(params, camera_field)
         for field, kind in ((texture_field, "texture"), (depth_field, "depth")):
             if not any(name == camera and stream_kind == kind for name, stream_kind, _ in streams):
-                raise UsageError(f"--synthesize {config}: its {camera_field} {camera} has no "
-                                 f"--{'view' if kind == 'texture' else 'depth'} {camera} here")
+                raise UsageError(
+                    f"--synthesize {config}: its {camera_field} {camera} has no "
+                    f"--{'view' if kind == 'texture' else 'depth'} {camera} here"
+                )
             by_key[field] = (camera, kind)
     return {"config": Path(config), "inputs": by_key}
 
@@ -213,25 +301,43 @@ def _synthesize(config: Path, output: Path, overrides: dict, frames: int) -> Non
     """``mvtools synthesize CONFIG`` with some of its keys replaced, as a Makefile runs it."""
     keys = {spec.name: spec.key for spec in param_specs(VsrsParams)}
     overrides = {**overrides, "start_frame": 0, "total_number_of_frames": frames}
-    command = [sys.executable, "-m", "mvtools", "synthesize", str(config), "-q", "-o", str(output),
-               *(f"{keys[field]}={value}" for field, value in overrides.items())]
+    command = [
+        sys.executable,
+        "-m",
+        "mvtools",
+        "synthesize",
+        str(config),
+        "-q",
+        "-o",
+        str(output),
+        *(f"{keys[field]}={value}" for field, value in overrides.items()),
+    ]
     completed = run_program(command)
     if completed.returncode != 0:
-        raise DataError(f"synthesis failed: {completed.stderr.strip().splitlines()[-1]}",
-                        path=config)
+        raise DataError(
+            f"synthesis failed: {completed.stderr.strip().splitlines()[-1]}", path=config
+        )
 
 
-def _synthesis_scores(synthesis: dict, decoded: dict, out: Path, folder: Path,
-                      frames: int) -> dict:
+def _synthesis_scores(synthesis: dict, decoded: dict, out: Path, folder: Path, frames: int) -> dict:
     reference = out / "original" / "synthesized.yuv"
     if not reference.exists():
-        _synthesize(synthesis["config"], reference,
-                    {field: (out / "original" / decoded[key].name).resolve()
-                     for field, key in synthesis["inputs"].items()}, frames)
+        _synthesize(
+            synthesis["config"],
+            reference,
+            {
+                field: (out / "original" / decoded[key].name).resolve()
+                for field, key in synthesis["inputs"].items()
+            },
+            frames,
+        )
     test = folder / "synthesized.yuv"
-    _synthesize(synthesis["config"], test,
-                {field: decoded[key].resolve() for field, key in synthesis["inputs"].items()},
-                frames)
+    _synthesize(
+        synthesis["config"],
+        test,
+        {field: decoded[key].resolve() for field, key in synthesis["inputs"].items()},
+        frames,
+    )
     params = load_config(VsrsParams, synthesis["config"]).params
     fmt = YuvFormat(params.source_width, params.source_height)
     with open_video(reference, fmt) as truth, open_video(test, fmt) as result:
@@ -244,50 +350,74 @@ def _report(results: dict, modes, qps) -> dict:
     for mode in modes:
         points = []
         for point in results[mode]:
-            textures = [score["y_psnr"] for name, score in point["scores"].items()
-                        if name.endswith(" texture")]
-            weighted = [score["yuv_psnr"] for name, score in point["scores"].items()
-                        if name.endswith(" texture")]
-            points.append({key: value for key, value in point.items() if key != "decoded"}
-                          | {"mean_texture_y_psnr": float(np.mean(textures)),
-                             "mean_texture_yuv_psnr": float(np.mean(weighted))})
+            textures = [
+                score["y_psnr"]
+                for name, score in point["scores"].items()
+                if name.endswith(" texture")
+            ]
+            weighted = [
+                score["yuv_psnr"]
+                for name, score in point["scores"].items()
+                if name.endswith(" texture")
+            ]
+            points.append(
+                {key: value for key, value in point.items() if key != "decoded"}
+                | {
+                    "mean_texture_y_psnr": float(np.mean(textures)),
+                    "mean_texture_yuv_psnr": float(np.mean(weighted)),
+                }
+            )
         report["modes"][mode] = points
     if len(modes) == 2 and len(qps) >= 4:
         anchor, test = (report["modes"][mode] for mode in MODES)
         rates = [[point["kbps"] for point in points] for points in (anchor, test)]
-        quality = [[point["mean_texture_yuv_psnr"] for point in points] for points in (anchor, test)]
+        quality = [
+            [point["mean_texture_yuv_psnr"] for point in points] for points in (anchor, test)
+        ]
         report["bjontegaard"] = {
-            f"{method}": {"bd_rate_percent": bd_rate(rates[0], quality[0], rates[1], quality[1],
-                                                     method=method),
-                          "bd_psnr_db": bd_psnr(rates[0], quality[0], rates[1], quality[1],
-                                                method=method)}
-            for method in ("cubic", "pchip")}
+            f"{method}": {
+                "bd_rate_percent": bd_rate(
+                    rates[0], quality[0], rates[1], quality[1], method=method
+                ),
+                "bd_psnr_db": bd_psnr(rates[0], quality[0], rates[1], quality[1], method=method),
+            }
+            for method in ("cubic", "pchip")
+        }
     return report
 
 
 def _table(report: dict) -> str:
-    lines = [f"{'mode':10s} {'QP':>3s} {'kbit/s':>10s} {'texture':>10s} {'depth':>9s} "
-             f"{'Y-PSNR':>7s} {'YUV-PSNR':>8s}  synthesized view (PSNR / IV-PSNR)"]
+    lines = [
+        f"{'mode':10s} {'QP':>3s} {'kbit/s':>10s} {'texture':>10s} {'depth':>9s} "
+        f"{'Y-PSNR':>7s} {'YUV-PSNR':>8s}  synthesized view (PSNR / IV-PSNR)"
+    ]
     for mode, points in report["modes"].items():
         for point in points:
-            split = ("" if point["texture_kbps"] is None else
-                     f"{point['texture_kbps']:10.1f} {point['depth_kbps']:9.1f}")
+            split = (
+                ""
+                if point["texture_kbps"] is None
+                else f"{point['texture_kbps']:10.1f} {point['depth_kbps']:9.1f}"
+            )
             synthesis = point.get("synthesis")
-            lines.append(f"{mode:10s} {point['qp']:3d} {point['kbps']:10.1f} "
-                         f"{split or ' ' * 20} {point['mean_texture_y_psnr']:7.2f} "
-                         f"{point['mean_texture_yuv_psnr']:8.2f}"
-                         + (f"  {synthesis['y_psnr']:.2f} / {synthesis['iv_psnr']:.2f}"
-                            if synthesis else ""))
+            lines.append(
+                f"{mode:10s} {point['qp']:3d} {point['kbps']:10.1f} "
+                f"{split or ' ' * 20} {point['mean_texture_y_psnr']:7.2f} "
+                f"{point['mean_texture_yuv_psnr']:8.2f}"
+                + (f"  {synthesis['y_psnr']:.2f} / {synthesis['iv_psnr']:.2f}" if synthesis else "")
+            )
     lines.append("per stream, Y-PSNR / YUV-PSNR (dB):")
     for mode, points in report["modes"].items():
         for point in points:
             streams = "  ".join(
                 f"{name} {score['y_psnr']:.2f}"
                 + (f"/{score['yuv_psnr']:.2f}" if score["yuv_psnr"] is not None else "")
-                for name, score in point["scores"].items())
+                for name, score in point["scores"].items()
+            )
             lines.append(f"  {mode:10s} QP {point['qp']:2d}  {streams}")
     for method, deltas in report.get("bjontegaard", {}).items():
-        lines.append(f"packed against simulcast ({method}): BD-rate "
-                     f"{deltas['bd_rate_percent']:+.2f} %, BD-PSNR {deltas['bd_psnr_db']:+.3f} dB "
-                     "(mean texture YUV-PSNR)")
+        lines.append(
+            f"packed against simulcast ({method}): BD-rate "
+            f"{deltas['bd_rate_percent']:+.2f} %, BD-PSNR {deltas['bd_psnr_db']:+.3f} dB "
+            "(mean texture YUV-PSNR)"
+        )
     return "\n".join(lines)

@@ -12,8 +12,9 @@ from mvtools.io.yuv import VideoReader, YuvFormat, format_from_name, guess_forma
 LOG = logging.getLogger("mvtools")
 
 
-def open_input_video(path: str | os.PathLike, size: tuple[int, int] | None,
-                     pix_fmt: str | None) -> VideoReader:
+def open_input_video(
+    path: str | os.PathLike, size: tuple[int, int] | None, pix_fmt: str | None
+) -> VideoReader:
     """Open a video given ``--size``/``--pix-fmt`` (either may be None).
 
     Missing values come from the file: a Y4M header or an ffmpeg-style name.
@@ -28,12 +29,21 @@ def open_input_video(path: str | os.PathLike, size: tuple[int, int] | None,
             return reader
         size = named.size
     width, height = size
-    fmt = YuvFormat.from_pix_fmt(width, height, pix_fmt) if pix_fmt else guess_format(path, width, height)
+    fmt = (
+        YuvFormat.from_pix_fmt(width, height, pix_fmt)
+        if pix_fmt
+        else guess_format(path, width, height)
+    )
     return open_video(path, fmt)
 
 
-def frame_range(readers: list[VideoReader], start: int, count: int | None, *,
-                start_given: ConfigEntry | None = None) -> range:
+def frame_range(
+    readers: list[VideoReader],
+    start: int,
+    count: int | None,
+    *,
+    start_given: ConfigEntry | None = None,
+) -> range:
     """Frames ``start .. start+count-1`` that every reader has; warns when lengths differ.
 
     Parameters
@@ -63,7 +73,12 @@ def frame_range(readers: list[VideoReader], start: int, count: int | None, *,
         raise UsageError(f"--start-frame {message}")
     stop = available if count is None else start + count
     if stop > available:
-        LOG.warning("asked for %d frames from frame %d, the inputs have %d: using %d",
-                    count, start, available, available - start)
+        LOG.warning(
+            "asked for %d frames from frame %d, the inputs have %d: using %d",
+            count,
+            start,
+            available,
+            available - start,
+        )
         stop = available
     return range(start, stop)

@@ -10,8 +10,13 @@ import numpy as np
 
 from mvtools.cli.configs import LoadedConfig, load_config
 from mvtools.cli.inputs import open_input_video
-from mvtools.cli.options import (ProgramCommand, data_dir_option, program,
-                                  transposed_rotation_option, video_format_options)
+from mvtools.cli.options import (
+    ProgramCommand,
+    data_dir_option,
+    program,
+    transposed_rotation_option,
+    video_format_options,
+)
 from mvtools.errors import UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import read_cameras, read_htm_cameras
@@ -27,8 +32,13 @@ _NUMBERS_LINE = re.compile(r"^[\s0-9.eE+-]*$")
 
 @click.command(name="inspect", cls=ProgramCommand)
 @click.argument("files", nargs=-1, required=True, metavar="FILE... [Key=Value]...")
-@click.option("--as", "kind", type=click.Choice(KINDS), default=None,
-              help="What the files are (default: from the extension and the content).")
+@click.option(
+    "--as",
+    "kind",
+    type=click.Choice(KINDS),
+    default=None,
+    help="What the files are (default: from the extension and the content).",
+)
 @video_format_options
 @data_dir_option
 @transposed_rotation_option
@@ -56,8 +66,11 @@ def command(files, kind, size, pix_fmt, data_dirs, transposed_rotation):
         if file_kind == "video":
             click.echo(_describe_video(path, size, pix_fmt))
         elif file_kind in CAMERA_READERS:
-            cameras = (read_cameras(path, transposed_rotation=transposed_rotation)
-                       if file_kind == "cameras" else CAMERA_READERS[file_kind](path))
+            cameras = (
+                read_cameras(path, transposed_rotation=transposed_rotation)
+                if file_kind == "cameras"
+                else CAMERA_READERS[file_kind](path)
+            )
             click.echo(f"{path}: {len(cameras)} cameras\n{_camera_table(cameras.values())}")
         elif file_kind == "htm-config":
             entries = read_htm_config(path)
@@ -65,13 +78,21 @@ def command(files, kind, size, pix_fmt, data_dirs, transposed_rotation):
             click.echo("\n".join(f"  {entry.key:<30} {entry.value}" for entry in entries.values()))
         else:
             cls = VsrsParams if file_kind == "vsrs" else DersParams
-            loaded = load_config(cls, path, overrides=overrides, data_dirs=data_dirs,
-                                 transposed_rotation=transposed_rotation)
+            loaded = load_config(
+                cls,
+                path,
+                overrides=overrides,
+                data_dirs=data_dirs,
+                transposed_rotation=transposed_rotation,
+            )
             click.echo(_describe_config(path, loaded))
 
 
-CAMERA_READERS = {"cameras": read_cameras, "json-cameras": read_json_cameras,
-                  "htm-cameras": read_htm_cameras}
+CAMERA_READERS = {
+    "cameras": read_cameras,
+    "json-cameras": read_json_cameras,
+    "htm-cameras": read_htm_cameras,
+}
 
 
 def _detect(path: Path) -> str:
@@ -84,7 +105,9 @@ def _detect(path: Path) -> str:
         text = path.read_text(errors="replace")
     except FileNotFoundError:
         raise UsageError("no such file", path=path) from None
-    lines = [line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")]
+    lines = [
+        line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")
+    ]
     if lines and all(_HTM_KEY_LINE.match(line) for line in lines):
         return "htm-config"
     if lines and all(_NUMBERS_LINE.match(line) for line in lines):
@@ -105,15 +128,19 @@ def _describe_video(path: Path, size, pix_fmt) -> str:
 
 
 def _camera_table(cameras) -> str:
-    lines = [f"{'name':<20}{'fx':>11}{'fy':>11}{'cx':>10}{'cy':>10}   {'centre (x, y, z)':<32}"
-             f"{'viewing direction':<24}{'to previous':>12}"]
+    lines = [
+        f"{'name':<20}{'fx':>11}{'fy':>11}{'cx':>10}{'cy':>10}   {'centre (x, y, z)':<32}"
+        f"{'viewing direction':<24}{'to previous':>12}"
+    ]
     previous: Camera | None = None
     for camera in cameras:
         centre = ", ".join(f"{value:.4g}" for value in camera.t)
         axis = ", ".join(f"{value:+.3f}" for value in camera.optical_axis)
         step = "" if previous is None else f"{np.linalg.norm(camera.t - previous.t):12.5g}"
-        lines.append(f"{camera.name:<20}{camera.fx:11.3f}{camera.fy:11.3f}{camera.cx:10.2f}"
-                     f"{camera.cy:10.2f}   {'(' + centre + ')':<32}{'(' + axis + ')':<24}{step}")
+        lines.append(
+            f"{camera.name:<20}{camera.fx:11.3f}{camera.fy:11.3f}{camera.cx:10.2f}"
+            f"{camera.cy:10.2f}   {'(' + centre + ')':<32}{'(' + axis + ')':<24}{step}"
+        )
         previous = camera
     return "\n".join(lines)
 
@@ -143,6 +170,8 @@ def _describe_config(path: Path, loaded: LoadedConfig) -> str:
     wanted = params.start_frame + params.total_number_of_frames
     if lengths and min(lengths) < wanted:
         usable = max(min(lengths) - params.start_frame, 0)
-        lines.append(f"note: StartFrame + TotalNumberOfFrames = {wanted} but the shortest input has "
-                     f"{min(lengths)} frames: {usable} frames would be processed")
+        lines.append(
+            f"note: StartFrame + TotalNumberOfFrames = {wanted} but the shortest input has "
+            f"{min(lengths)} frames: {usable} frames would be processed"
+        )
     return "\n".join(lines)

@@ -56,8 +56,7 @@ def cli():
 
 def _standalone(name: str):
     def main():
-        program_command(name).main(prog_name=f"mvtools-{name}",
-                                   help_option_names=["-h", "--help"])
+        program_command(name).main(prog_name=f"mvtools-{name}", help_option_names=["-h", "--help"])
 
     main.__name__ = f"{name.replace('-', '_')}_cli"
     return main

@@ -78,11 +78,14 @@ def program(function):
     @functools.wraps(function)
     def wrapper(ctx: click.Context, verbose: int, quiet: int, **kwargs):
         _set_log_level(ctx, verbose, quiet)
-        LOG.debug("mvtools %s, Python %s, numba threading layers %s, OMP_WAIT_POLICY %s",
-                  __version__, sys.version.split()[0],
-                  os.environ.get("NUMBA_THREADING_LAYER") or
-                  os.environ.get("NUMBA_THREADING_LAYER_PRIORITY"),
-                  os.environ.get("OMP_WAIT_POLICY"))
+        LOG.debug(
+            "mvtools %s, Python %s, numba threading layers %s, OMP_WAIT_POLICY %s",
+            __version__,
+            sys.version.split()[0],
+            os.environ.get("NUMBA_THREADING_LAYER")
+            or os.environ.get("NUMBA_THREADING_LAYER_PRIORITY"),
+            os.environ.get("OMP_WAIT_POLICY"),
+        )
         start = time.perf_counter()
         try:
             with _end_on_signals(), file_guard():
@@ -117,7 +120,7 @@ def _end_on_signals():
     interpreter's clean-up (SIGSEGV) if the process unwinds from there.
     """
     if threading.current_thread() is not threading.main_thread():
-        yield       # signals reach the main thread only; its caller handles them
+        yield  # signals reach the main thread only; its caller handles them
         return
 
     def end(signum, frame):
@@ -177,8 +180,11 @@ class _OneLineUsageError(click.ClickException):
         self.program_name = program_name
 
     def show(self, file=None) -> None:
-        click.echo(f"{self.program_name}: error: {self.format_message()} (--help lists the "
-                   "options)", err=True, file=file)
+        click.echo(
+            f"{self.program_name}: error: {self.format_message()} (--help lists the options)",
+            err=True,
+            file=file,
+        )
 
 
 class ProgramCommand(click.Command):
@@ -207,8 +213,9 @@ class FiniteFloat(click.FloatRange):
     def convert(self, value, param, ctx):
         number = super().convert(value, param, ctx)
         if math.isnan(number) or (math.isinf(number) and not self.infinity):
-            self.fail(f"{value!r} is not a {'number' if self.infinity else 'finite number'}",
-                      param, ctx)
+            self.fail(
+                f"{value!r} is not a {'number' if self.infinity else 'finite number'}", param, ctx
+            )
         return number
 
     def _describe_range(self) -> str:
@@ -224,9 +231,13 @@ DEPTH = FiniteFloat(infinity=True)
 
 
 data_dir_option = click.option(
-    "--data-dir", "data_dirs", multiple=True, type=click.Path(file_okay=False, exists=True),
+    "--data-dir",
+    "data_dirs",
+    multiple=True,
+    type=click.Path(file_okay=False, exists=True),
     help="Folder where relative input paths of the config file are also looked for "
-         "(repeatable; after the current folder and the config file's folder).")
+    "(repeatable; after the current folder and the config file's folder).",
+)
 
 overrides_argument = click.argument("overrides", nargs=-1, metavar="[Key=Value]...")
 
@@ -246,25 +257,44 @@ def parse_size(ctx, param, value):
 def video_format_options(function):
     """``--size WxH`` and ``--pix-fmt`` for raw YUV inputs (names and Y4M carry their own)."""
     function = click.option(
-        "--pix-fmt", default=None, metavar="NAME",
+        "--pix-fmt",
+        default=None,
+        metavar="NAME",
         help="Pixel format of raw YUV inputs, ffmpeg names: yuv420p (default when only the "
-             "size is given and the file size agrees), yuv420p10le, yuv444p, gray, gray16le...")(function)
+        "size is given and the file size agrees), yuv420p10le, yuv444p, gray, gray16le...",
+    )(function)
     return click.option(
-        "--size", callback=parse_size, default=None, metavar="WxH",
-        help="Picture size of raw YUV inputs whose name does not carry it (name_1024x768_yuv420p.yuv).")(function)
+        "--size",
+        callback=parse_size,
+        default=None,
+        metavar="WxH",
+        help="Picture size of raw YUV inputs whose name does not carry it (name_1024x768_yuv420p.yuv).",
+    )(function)
 
 
 def frame_range_options(function):
     """``--start-frame`` and ``--frames``, as VSRS's StartFrame and TotalNumberOfFrames."""
-    function = click.option("--frames", "frame_count", type=click.IntRange(min=1), default=None,
-                            help="Number of frames to process (default: all).")(function)
-    return click.option("--start-frame", type=click.IntRange(min=0), default=0, show_default=True,
-                        help="First frame to process.")(function)
+    function = click.option(
+        "--frames",
+        "frame_count",
+        type=click.IntRange(min=1),
+        default=None,
+        help="Number of frames to process (default: all).",
+    )(function)
+    return click.option(
+        "--start-frame",
+        type=click.IntRange(min=0),
+        default=0,
+        show_default=True,
+        help="First frame to process.",
+    )(function)
 
 
 transposed_rotation_option = click.option(
-    "--transposed-rotation", is_flag=True,
-    help="Camera parameter files store R transposed (camera to world), as VSRS 3.5 did.")
+    "--transposed-rotation",
+    is_flag=True,
+    help="Camera parameter files store R transposed (camera to world), as VSRS 3.5 did.",
+)
 
 
 def param_options(params_class: type, secondary_names: dict[str, tuple[str, ...]] | None = None):
@@ -287,13 +317,24 @@ def param_options(params_class: type, secondary_names: dict[str, tuple[str, ...]
         for spec in reversed(param_specs(params_class)):
             if spec.choices is not None:
                 # as the command line spells them: SearchLevel 2, not 2.0
-                kind = click.Choice([f"{choice:g}" if isinstance(choice, float) else str(choice)
-                                     for choice in spec.choices])
+                kind = click.Choice(
+                    [
+                        f"{choice:g}" if isinstance(choice, float) else str(choice)
+                        for choice in spec.choices
+                    ]
+                )
             else:
                 kind = {int: int, float: float, str: str}[spec.type]
             metavar = "FILE" if spec.kind is not Kind.VALUE else None
             names = (f"--{spec.name.replace('_', '-')}", *secondary_names.get(spec.name, ()))
-            function = click.option(*names, spec.name, type=kind, default=None,
-                                    metavar=metavar, help=f"{spec.key}: {spec.help}.")(function)
+            function = click.option(
+                *names,
+                spec.name,
+                type=kind,
+                default=None,
+                metavar=metavar,
+                help=f"{spec.key}: {spec.help}.",
+            )(function)
         return function
+
     return decorate

@@ -48,47 +48,116 @@ _OFF_LINE_WARNING = 0.01
 
 @click.command(name="rectify", cls=ProgramCommand)
 @click.argument("camera_file", type=click.Path(dir_okay=False))
-@click.option("--camera", "camera_names", multiple=True, metavar="NAME",
-              help="A camera of the array, in order along it (repeatable; default: the "
-                   "cameras of --texture and --depth, in the order given).")
-@click.option("--texture", "textures", multiple=True, nargs=2, metavar="CAMERA VIDEO",
-              help="A texture video of a camera to rectify (repeatable).")
-@click.option("--depth", "depths", multiple=True, nargs=2, metavar="CAMERA VIDEO",
-              help="A depth map video of a camera (MPEG: 255 or 65535 = Znear), sampled at the "
-                   "nearest pixel and re-measured along the rectified camera's axis "
-                   "(repeatable).")
-@click.option("--depth-range", nargs=2, type=DEPTH, default=None, metavar="ZNEAR ZFAR",
-              help="Znear and Zfar of the depth maps (default: the cameras' Depth_range of an "
-                   "MPEG-I JSON camera file); the output keeps them.")
-@click.option("--undistort", "undistort_only", is_flag=True,
-              help="Only remove the lens distortion: every camera keeps its orientation.")
-@click.option("--keep-world", is_flag=True,
-              help="Describe the rectified cameras in the input's world frame. By default the "
-                   "world frame turns with them, so that their rotations are the identity and "
-                   "the centres lie along x, as VSRS's and DERS's 1D modes read camera files.")
-@click.option("--alpha", type=FiniteFloat(0.0, 1.0), default=0.0, show_default=True,
-              help="Kept field of view: 0 crops so that every output pixel is valid, 1 keeps "
-                   "every source pixel (with empty borders), values between interpolate.")
-@click.option("--virtual", "virtual_count", type=click.IntRange(min=0), default=0,
-              show_default=True,
-              help="Virtual cameras to add to the camera file between each pair of neighbours, "
-                   "evenly spaced (named LEFT_RIGHT_k), for the views synthesized in between.")
-@click.option("-o", "--out-dir", required=True, type=click.Path(file_okay=False),
-              help="Folder for the rectified videos (named as their inputs) and the cameras.")
-@click.option("--cameras-out", default=None, type=click.Path(dir_okay=False),
-              help="Camera file of the rectified cameras (default OUT_DIR/cameras.txt; a .json "
-                   "name writes MPEG-I JSON).")
-@click.option("--camera-size", callback=parse_size, default=None, metavar="WxH",
-              help="Picture size of cameras that have no video here and no size in the camera "
-                   "file (MPEG camera parameter files carry none).")
+@click.option(
+    "--camera",
+    "camera_names",
+    multiple=True,
+    metavar="NAME",
+    help="A camera of the array, in order along it (repeatable; default: the "
+    "cameras of --texture and --depth, in the order given).",
+)
+@click.option(
+    "--texture",
+    "textures",
+    multiple=True,
+    nargs=2,
+    metavar="CAMERA VIDEO",
+    help="A texture video of a camera to rectify (repeatable).",
+)
+@click.option(
+    "--depth",
+    "depths",
+    multiple=True,
+    nargs=2,
+    metavar="CAMERA VIDEO",
+    help="A depth map video of a camera (MPEG: 255 or 65535 = Znear), sampled at the "
+    "nearest pixel and re-measured along the rectified camera's axis "
+    "(repeatable).",
+)
+@click.option(
+    "--depth-range",
+    nargs=2,
+    type=DEPTH,
+    default=None,
+    metavar="ZNEAR ZFAR",
+    help="Znear and Zfar of the depth maps (default: the cameras' Depth_range of an "
+    "MPEG-I JSON camera file); the output keeps them.",
+)
+@click.option(
+    "--undistort",
+    "undistort_only",
+    is_flag=True,
+    help="Only remove the lens distortion: every camera keeps its orientation.",
+)
+@click.option(
+    "--keep-world",
+    is_flag=True,
+    help="Describe the rectified cameras in the input's world frame. By default the "
+    "world frame turns with them, so that their rotations are the identity and "
+    "the centres lie along x, as VSRS's and DERS's 1D modes read camera files.",
+)
+@click.option(
+    "--alpha",
+    type=FiniteFloat(0.0, 1.0),
+    default=0.0,
+    show_default=True,
+    help="Kept field of view: 0 crops so that every output pixel is valid, 1 keeps "
+    "every source pixel (with empty borders), values between interpolate.",
+)
+@click.option(
+    "--virtual",
+    "virtual_count",
+    type=click.IntRange(min=0),
+    default=0,
+    show_default=True,
+    help="Virtual cameras to add to the camera file between each pair of neighbours, "
+    "evenly spaced (named LEFT_RIGHT_k), for the views synthesized in between.",
+)
+@click.option(
+    "-o",
+    "--out-dir",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Folder for the rectified videos (named as their inputs) and the cameras.",
+)
+@click.option(
+    "--cameras-out",
+    default=None,
+    type=click.Path(dir_okay=False),
+    help="Camera file of the rectified cameras (default OUT_DIR/cameras.txt; a .json "
+    "name writes MPEG-I JSON).",
+)
+@click.option(
+    "--camera-size",
+    callback=parse_size,
+    default=None,
+    metavar="WxH",
+    help="Picture size of cameras that have no video here and no size in the camera "
+    "file (MPEG camera parameter files carry none).",
+)
 @video_format_options
 @frame_range_options
 @transposed_rotation_option
 @program
-def command(camera_file, camera_names, textures, depths, depth_range, undistort_only, keep_world,
-            virtual_count, alpha,
-            out_dir, cameras_out, camera_size, size, pix_fmt, start_frame, frame_count,
-            transposed_rotation):
+def command(
+    camera_file,
+    camera_names,
+    textures,
+    depths,
+    depth_range,
+    undistort_only,
+    keep_world,
+    virtual_count,
+    alpha,
+    out_dir,
+    cameras_out,
+    camera_size,
+    size,
+    pix_fmt,
+    start_frame,
+    frame_count,
+    transposed_rotation,
+):
     """Rectify the cameras of CAMERA_FILE (a pair or a linear array) and their videos.
 
     Rectified cameras share one orientation (x along the line of the centres) and one
@@ -108,20 +177,32 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
     if virtual_count and undistort_only:
         raise UsageError("--virtual cameras go between rectified cameras, not with --undistort")
     if len(names) < 2 and not undistort_only:
-        raise UsageError(f"rectifying needs at least two cameras (a pair or a linear array), "
-                         f"got {', '.join(names)}; --undistort works on one")
-    videos = {"texture": _videos_by_camera(textures, names, "--texture"),
-              "depth": _videos_by_camera(depths, names, "--depth")}
-    selected = [_sized_camera(get_camera(cameras, name, path=camera_file), videos, camera_size,
-                              size, pix_fmt) for name in names]
+        raise UsageError(
+            f"rectifying needs at least two cameras (a pair or a linear array), "
+            f"got {', '.join(names)}; --undistort works on one"
+        )
+    videos = {
+        "texture": _videos_by_camera(textures, names, "--texture"),
+        "depth": _videos_by_camera(depths, names, "--depth"),
+    }
+    selected = [
+        _sized_camera(
+            get_camera(cameras, name, path=camera_file), videos, camera_size, size, pix_fmt
+        )
+        for name in names
+    ]
     if len({camera.size for camera in selected}) > 1:
-        listed = ", ".join(f"{camera.name} {camera.size[0]}x{camera.size[1]}"
-                           for camera in selected)
-        raise DataError(f"the cameras differ in picture size ({listed}); rectified cameras "
-                        "share one")
+        listed = ", ".join(
+            f"{camera.name} {camera.size[0]}x{camera.size[1]}" for camera in selected
+        )
+        raise DataError(
+            f"the cameras differ in picture size ({listed}); rectified cameras share one"
+        )
     index_of = {name: index for index, name in enumerate(names)}
-    depth_ranges = {name: _depth_range_of(selected[index_of[name]], depth_range, path)
-                    for name, path in videos["depth"].items()}
+    depth_ranges = {
+        name: _depth_range_of(selected[index_of[name]], depth_range, path)
+        for name, path in videos["depth"].items()
+    }
     out = Path(out_dir)
     camera_target = Path(cameras_out) if cameras_out else out / "cameras.txt"
     targets = _outputs(videos, out, camera_target)
@@ -134,8 +215,19 @@ def command(camera_file, camera_names, textures, depths, depth_range, undistort_
     for kind, by_camera in videos.items():
         for name, path in by_camera.items():
             index = index_of[name]
-            _rectify_video(Path(path), targets[kind, name], kind, result, index, selected[index],
-                           size, pix_fmt, start_frame, frame_count, depth_ranges.get(name))
+            _rectify_video(
+                Path(path),
+                targets[kind, name],
+                kind,
+                result,
+                index,
+                selected[index],
+                size,
+                pix_fmt,
+                start_frame,
+                frame_count,
+                depth_ranges.get(name),
+            )
     described = result.cameras
     if virtual_count:
         described = described + cameras_between(described, virtual_count)
@@ -150,8 +242,10 @@ def _videos_by_camera(pairs, names, option) -> dict[str, str]:
     by_camera: dict[str, str] = {}
     for name, path in pairs:
         if name not in names:
-            raise UsageError(f"{option} {name} {path}: {name} is not among the cameras "
-                             f"rectified ({', '.join(names)})")
+            raise UsageError(
+                f"{option} {name} {path}: {name} is not among the cameras "
+                f"rectified ({', '.join(names)})"
+            )
         if name in by_camera:
             raise UsageError(f"{option} given twice for camera {name}")
         by_camera[name] = path
@@ -173,13 +267,17 @@ def _outputs(videos, out: Path, camera_target: Path) -> dict[tuple[str, str], Pa
         for name, path in by_camera.items():
             target = targets[kind, name] = out / Path(path).name
             if target.resolve() in written:
-                raise UsageError(f"{written[target.resolve()]} and {path} would both be "
-                                 f"written to {target}: rename one")
+                raise UsageError(
+                    f"{written[target.resolve()]} and {path} would both be "
+                    f"written to {target}: rename one"
+                )
             written[target.resolve()] = path
     if camera_target.resolve() in written:
-        raise UsageError(f"the camera file would replace the rectified "
-                         f"{written[camera_target.resolve()]}: give another --cameras-out",
-                         path=camera_target)
+        raise UsageError(
+            f"the camera file would replace the rectified "
+            f"{written[camera_target.resolve()]}: give another --cameras-out",
+            path=camera_target,
+        )
     for target in (*targets.values(), camera_target):
         check_output(target)
     if camera_target.parent.resolve() != out.resolve():
@@ -200,27 +298,38 @@ def _sized_camera(camera, videos, camera_size, size, pix_fmt):
         raise DataError(f"camera {camera.name}: its videos differ in size ({listed})")
     found = next(iter(sizes.values()), None) or camera.size or camera_size
     if found is None:
-        raise UsageError(f"camera {camera.name} has no picture size: give its video or "
-                         "--camera-size WxH")
+        raise UsageError(
+            f"camera {camera.name} has no picture size: give its video or --camera-size WxH"
+        )
     if camera.size is not None and tuple(camera.size) != tuple(found):
-        raise DataError(f"camera {camera.name} is {camera.size[0]}x{camera.size[1]} in the "
-                        f"camera file but its video is {found[0]}x{found[1]}")
+        raise DataError(
+            f"camera {camera.name} is {camera.size[0]}x{camera.size[1]} in the "
+            f"camera file but its video is {found[0]}x{found[1]}"
+        )
     return replace(camera, size=tuple(found))
 
 
 def _log_warps(result: Rectification, undistort_only: bool) -> None:
     for camera, valid, kept in zip(result.cameras, result.valid_fraction, result.kept_fraction):
-        LOG.info("%s: %.1f %% of the output samples the source, %.1f %% of the source is kept",
-                 camera.name, 100 * valid, 100 * kept)
+        LOG.info(
+            "%s: %.1f %% of the output samples the source, %.1f %% of the source is kept",
+            camera.name,
+            100 * valid,
+            100 * kept,
+        )
     if undistort_only or len(result.cameras) < 2:
         return
     centres = np.array([camera.t for camera in result.cameras])
     spacing = np.mean(np.linalg.norm(np.diff(centres, axis=0), axis=1))
     for camera, offset in zip(result.cameras, result.centre_offsets):
         if offset > _OFF_LINE_WARNING * spacing:
-            LOG.warning("%s: the camera centre is %.3g off the array's line (%.1f %% of the "
-                        "camera spacing): rows agree only approximately, depending on depth",
-                        camera.name, offset, 100 * offset / spacing)
+            LOG.warning(
+                "%s: the camera centre is %.3g off the array's line (%.1f %% of the "
+                "camera spacing): rows agree only approximately, depending on depth",
+                camera.name,
+                offset,
+                100 * offset / spacing,
+            )
 
 
 def _write_cameras(path: Path, cameras) -> None:
@@ -233,13 +342,25 @@ def _write_cameras(path: Path, cameras) -> None:
 def _depth_range_of(camera, depth_range, path) -> tuple[float, float]:
     """--depth-range (checked), else the camera's (the camera file's reader checks it)."""
     if depth_range is None and camera.depth_range is None:
-        raise UsageError("the depth map's Znear and Zfar are unknown: give --depth-range ZNEAR "
-                         "ZFAR", path=path)
+        raise UsageError(
+            "the depth map's Znear and Zfar are unknown: give --depth-range ZNEAR ZFAR", path=path
+        )
     return tuple(depth_range if depth_range is not None else camera.depth_range)
 
 
-def _rectify_video(path: Path, target: Path, kind: str, result: Rectification, index: int,
-                   source_camera, size, pix_fmt, start_frame, frame_count, depth_range) -> None:
+def _rectify_video(
+    path: Path,
+    target: Path,
+    kind: str,
+    result: Rectification,
+    index: int,
+    source_camera,
+    size,
+    pix_fmt,
+    start_frame,
+    frame_count,
+    depth_range,
+) -> None:
     map_x, map_y = result.maps[index]
     with open_input_video(path, size, pix_fmt) as video:
         fmt = video.format
@@ -275,12 +396,20 @@ def _subsampling(fmt) -> tuple[int, int] | None:
 
 
 def _summary(result: Rectification, undistort_only: bool) -> str:
-    lines = [f"{'camera':10s} {'fx':>9s} {'cx':>8s} {'cy':>8s} {'valid %':>8s} {'kept %':>7s} "
-             f"{'off line':>9s}  homography (undistorted source -> output)"]
-    for camera, valid, kept, offset, warp in zip(result.cameras, result.valid_fraction,
-                                                 result.kept_fraction, result.centre_offsets,
-                                                 result.homographies):
+    lines = [
+        f"{'camera':10s} {'fx':>9s} {'cx':>8s} {'cy':>8s} {'valid %':>8s} {'kept %':>7s} "
+        f"{'off line':>9s}  homography (undistorted source -> output)"
+    ]
+    for camera, valid, kept, offset, warp in zip(
+        result.cameras,
+        result.valid_fraction,
+        result.kept_fraction,
+        result.centre_offsets,
+        result.homographies,
+    ):
         rows = " / ".join(" ".join(f"{value:.6g}" for value in row) for row in warp)
-        lines.append(f"{camera.name:10s} {camera.fx:9.2f} {camera.cx:8.2f} {camera.cy:8.2f} "
-                     f"{100 * valid:8.2f} {100 * kept:7.2f} {offset:9.3g}  {rows}")
+        lines.append(
+            f"{camera.name:10s} {camera.fx:9.2f} {camera.cx:8.2f} {camera.cy:8.2f} "
+            f"{100 * valid:8.2f} {100 * kept:7.2f} {offset:9.3g}  {rows}"
+        )
     return "\n".join(lines)

@@ -29,8 +29,13 @@ MAX_PICTURES = 100
 
 @click.command(name="report", cls=ProgramCommand)
 @click.argument("build_dir", type=click.Path(file_okay=False))
-@click.option("-o", "--output", type=click.Path(dir_okay=False), default=None,
-              help="The page (default BUILD_DIR/report.html).")
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="The page (default BUILD_DIR/report.html).",
+)
 @click.option("--title", default=None, help="The page's title (default: the folder's name).")
 @program
 def command(build_dir, output, title):
@@ -47,8 +52,13 @@ def command(build_dir, output, title):
     output = Path(output) if output else folder / "report.html"
     # before the videos are read, not after: the page is written last
     output_folder_exists(output.parent)
-    sections = [_calibrations(folder), _pictures(folder), _scores(folder),
-                _depth_errors(folder), _compressions(folder)]
+    sections = [
+        _calibrations(folder),
+        _pictures(folder),
+        _scores(folder),
+        _depth_errors(folder),
+        _compressions(folder),
+    ]
     page = html_page(title or f"mvtools report of {folder.resolve().name}", sections)
     with atomic_output(output, "w") as handle:
         handle.write(page)
@@ -80,20 +90,44 @@ def _calibrations(folder: Path) -> Section:
     section = Section("Calibration")
     for path, document in _reports(folder, "baselines_m"):
         with _document(path, "the calibration report of mvtools calibrate"):
-            cameras = [_expect(camera, dict, "camera")
-                       for camera in _expect(document["cameras"], list, "cameras")]
-            section.items.append(Table(
-                f"{path.parent.relative_to(folder)}: cameras",
-                ("camera", "fx", "fy", "cx", "cy", "K1", "K2", "RMS px", "captures"),
-                [(camera["name"], camera["K"][0][0], camera["K"][1][1], camera["K"][0][2],
-                  camera["K"][1][2], camera["distortion"]["K1"], camera["distortion"]["K2"],
-                  camera["rms_px"], len(camera["captures_used"])) for camera in cameras]))
-            errors = {camera["name"]: [float(rms) for rms in camera["capture_rms_px"].values()]
-                      for camera in cameras}
-            section.items.append(Plot("reprojection error of every capture used (px RMS), "
-                                      "per camera", bar_plot(errors, y_label="px RMS")))
-        section.items += [Picture(picture.stem, read_bytes(picture, "picture"))
-                          for picture in sorted(path.parent.glob("*_corners.png"))]
+            cameras = [
+                _expect(camera, dict, "camera")
+                for camera in _expect(document["cameras"], list, "cameras")
+            ]
+            section.items.append(
+                Table(
+                    f"{path.parent.relative_to(folder)}: cameras",
+                    ("camera", "fx", "fy", "cx", "cy", "K1", "K2", "RMS px", "captures"),
+                    [
+                        (
+                            camera["name"],
+                            camera["K"][0][0],
+                            camera["K"][1][1],
+                            camera["K"][0][2],
+                            camera["K"][1][2],
+                            camera["distortion"]["K1"],
+                            camera["distortion"]["K2"],
+                            camera["rms_px"],
+                            len(camera["captures_used"]),
+                        )
+                        for camera in cameras
+                    ],
+                )
+            )
+            errors = {
+                camera["name"]: [float(rms) for rms in camera["capture_rms_px"].values()]
+                for camera in cameras
+            }
+            section.items.append(
+                Plot(
+                    "reprojection error of every capture used (px RMS), per camera",
+                    bar_plot(errors, y_label="px RMS"),
+                )
+            )
+        section.items += [
+            Picture(picture.stem, read_bytes(picture, "picture"))
+            for picture in sorted(path.parent.glob("*_corners.png"))
+        ]
     return section
 
 
@@ -118,8 +152,7 @@ def _pictures(folder: Path) -> Section:
         if encoded.intersection(path.parents):
             continue
         if len(section.items) >= MAX_PICTURES:
-            LOG.warning("%s: more than %d videos; the report shows the first", folder,
-                        MAX_PICTURES)
+            LOG.warning("%s: more than %d videos; the report shows the first", folder, MAX_PICTURES)
             break
         picture = _first_frame(path)
         if picture is not None:
@@ -128,8 +161,9 @@ def _pictures(folder: Path) -> Section:
         if len(section.items) >= MAX_PICTURES:
             break
         if not path.name.endswith("_corners.png"):
-            section.items.append(Picture(str(path.relative_to(folder)),
-                                         encode_image(read_image(path))))
+            section.items.append(
+                Picture(str(path.relative_to(folder)), encode_image(read_image(path)))
+            )
     return section
 
 
@@ -148,11 +182,15 @@ def _scores(folder: Path) -> Section:
             continue
         rows = [line for line in lines if len(line) == len(header) and line[0] != "frame"]
         section.items.append(Table(str(path.relative_to(folder)), header, rows))
-        videos = {line[0]: Path(line[1]) for line in lines
-                  if len(line) >= 2 and line[0] in ("reference", "test")}
+        videos = {
+            line[0]: Path(line[1])
+            for line in lines
+            if len(line) >= 2 and line[0] in ("reference", "test")
+        }
         if set(videos) == {"reference", "test"} and all(map(Path.exists, videos.values())):
-            comparison = _comparison(videos["reference"], videos["test"],
-                                     str(path.relative_to(folder)))
+            comparison = _comparison(
+                videos["reference"], videos["test"], str(path.relative_to(folder))
+            )
             if comparison is not None:
                 section.items.append(comparison)
     return section
@@ -179,7 +217,7 @@ def _depth_errors(folder: Path) -> Section:
         if not isinstance(document, dict) or "histogram" not in document:
             LOG.warning("%s: not %s; left out", path, what)
             continue
-        name = path.name[:-len(".errors.json")]
+        name = path.name[: -len(".errors.json")]
         with _document(path, what):
             histogram = _expect(document["histogram"], dict, "histogram")
             percent = [float(value) for value in _expect(histogram["percent"], list, "percent")]
@@ -191,19 +229,37 @@ def _depth_errors(folder: Path) -> Section:
             bins = list(histogram["bins"])
             mean = document.get("mean") or {
                 **{f"bad {t}": value for t, value in document["bad_all"].items()},
-                "mean abs": document["mean_abs_error"], "RMS": document["rms_error"]}
-            rows.append((name, *(float(mean.get(key, math.nan))
-                                 for key in ("bad 1", "bad 2", "mean abs", "RMS"))))
+                "mean abs": document["mean_abs_error"],
+                "RMS": document["rms_error"],
+            }
+            rows.append(
+                (
+                    name,
+                    *(
+                        float(mean.get(key, math.nan))
+                        for key in ("bad 1", "bad 2", "mean abs", "RMS")
+                    ),
+                )
+            )
         percentages[name] = percent
     if bins is None:
         return section
-    groups = {label: [percent[i] for percent in percentages.values()]
-              for i, label in enumerate(bins)}
-    section.items.append(Plot("% of pixels per absolute disparity error (px)",
-                              bar_plot(groups, y_label="% of pixels",
-                                       series=list(percentages))))
-    section.items.append(Table("disparity errors against the ground truth",
-                               ("depth", "bad 1 %", "bad 2 %", "mean abs px", "RMS px"), rows))
+    groups = {
+        label: [percent[i] for percent in percentages.values()] for i, label in enumerate(bins)
+    }
+    section.items.append(
+        Plot(
+            "% of pixels per absolute disparity error (px)",
+            bar_plot(groups, y_label="% of pixels", series=list(percentages)),
+        )
+    )
+    section.items.append(
+        Table(
+            "disparity errors against the ground truth",
+            ("depth", "bad 1 %", "bad 2 %", "mean abs px", "RMS px"),
+            rows,
+        )
+    )
     return section
 
 
@@ -212,28 +268,49 @@ def _compressions(folder: Path) -> Section:
     for path, document in _reports(folder, "modes"):
         where = path.parent.relative_to(folder)
         with _document(path, "the rate-distortion report of mvtools encode"):
-            modes = {mode: [_expect(point, dict, f"a point of {mode}")
-                            for point in _expect(points, list, mode)]
-                     for mode, points in _expect(document["modes"], dict, "modes").items()}
-            series = {mode: [(_rate(point["kbps"]), float(point["mean_texture_yuv_psnr"]))
-                             for point in points]
-                      for mode, points in modes.items()}
-            section.items.append(Plot(f"{where}: rate-distortion (mean texture YUV-PSNR)",
-                                      line_plot(series, x_label="kbit/s", y_label="dB",
-                                                log_x=True)))
-            section.items.append(Table(f"{where}: rate points",
-                                       ("mode", "QP", "kbit/s", "YUV-PSNR"),
-                                       [(mode, point["qp"], point["kbps"],
-                                         point["mean_texture_yuv_psnr"])
-                                        for mode, points in modes.items()
-                                        for point in points]))
+            modes = {
+                mode: [
+                    _expect(point, dict, f"a point of {mode}")
+                    for point in _expect(points, list, mode)
+                ]
+                for mode, points in _expect(document["modes"], dict, "modes").items()
+            }
+            series = {
+                mode: [
+                    (_rate(point["kbps"]), float(point["mean_texture_yuv_psnr"]))
+                    for point in points
+                ]
+                for mode, points in modes.items()
+            }
+            section.items.append(
+                Plot(
+                    f"{where}: rate-distortion (mean texture YUV-PSNR)",
+                    line_plot(series, x_label="kbit/s", y_label="dB", log_x=True),
+                )
+            )
+            section.items.append(
+                Table(
+                    f"{where}: rate points",
+                    ("mode", "QP", "kbit/s", "YUV-PSNR"),
+                    [
+                        (mode, point["qp"], point["kbps"], point["mean_texture_yuv_psnr"])
+                        for mode, points in modes.items()
+                        for point in points
+                    ],
+                )
+            )
             deltas = _expect(document.get("bjontegaard", {}), dict, "bjontegaard")
             if deltas:
-                section.items.append(Table(f"{where}: packed against simulcast",
-                                           ("interpolation", "BD-rate %", "BD-PSNR dB"),
-                                           [(method, values["bd_rate_percent"],
-                                             values["bd_psnr_db"])
-                                            for method, values in deltas.items()]))
+                section.items.append(
+                    Table(
+                        f"{where}: packed against simulcast",
+                        ("interpolation", "BD-rate %", "BD-PSNR dB"),
+                        [
+                            (method, values["bd_rate_percent"], values["bd_psnr_db"])
+                            for method, values in deltas.items()
+                        ],
+                    )
+                )
     return section
 
 

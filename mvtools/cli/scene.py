@@ -41,31 +41,92 @@ DISTORTED_CAPTURES = 20
 
 @click.command(name="scene", cls=ProgramCommand)
 @click.argument("out_dir", type=click.Path(file_okay=False))
-@click.option("--width", type=click.IntRange(min=8), default=256, show_default=True,
-              help="Picture width of the rig views (a multiple of 8).")
-@click.option("--height", type=click.IntRange(min=8), default=192, show_default=True,
-              help="Picture height of the rig views (a multiple of 8).")
-@click.option("--frames", type=click.IntRange(min=1), default=3, show_default=True,
-              help="Frames per view; the foreground objects move 2-3 px per frame.")
-@click.option("--views", type=click.IntRange(min=3), default=5, show_default=True,
-              help="Cameras per rig (and in the calibration rig).")
-@click.option("--seed", type=int, default=0, show_default=True,
-              help="Seed of the textures, the lens/colour imperfections and the board poses.")
-@click.option("--samples", type=click.IntRange(1, 16), default=4, show_default=True,
-              help="Anti-aliasing: samples x samples rays per pixel.")
-@click.option("--captures", type=click.IntRange(min=1), default=12, show_default=True,
-              help="Checkerboard poses of the calibration captures.")
-@click.option("--capture-size", type=(click.IntRange(min=64), click.IntRange(min=48)),
-              default=(640, 480), show_default=True, metavar="W H",
-              help="Picture size of the calibration captures.")
-@click.option("--capture-noise", type=FiniteFloat(min=0), default=0.0, show_default=True,
-              help="Standard deviation of the noise added to the captures (grey levels); "
-                   "noise-free captures compress ten times better, which keeps sample_data small.")
-@click.option("--part", "parts", multiple=True, type=click.Choice(PARTS),
-              help="Write only this part (repeatable; default: all).")
+@click.option(
+    "--width",
+    type=click.IntRange(min=8),
+    default=256,
+    show_default=True,
+    help="Picture width of the rig views (a multiple of 8).",
+)
+@click.option(
+    "--height",
+    type=click.IntRange(min=8),
+    default=192,
+    show_default=True,
+    help="Picture height of the rig views (a multiple of 8).",
+)
+@click.option(
+    "--frames",
+    type=click.IntRange(min=1),
+    default=3,
+    show_default=True,
+    help="Frames per view; the foreground objects move 2-3 px per frame.",
+)
+@click.option(
+    "--views",
+    type=click.IntRange(min=3),
+    default=5,
+    show_default=True,
+    help="Cameras per rig (and in the calibration rig).",
+)
+@click.option(
+    "--seed",
+    type=int,
+    default=0,
+    show_default=True,
+    help="Seed of the textures, the lens/colour imperfections and the board poses.",
+)
+@click.option(
+    "--samples",
+    type=click.IntRange(1, 16),
+    default=4,
+    show_default=True,
+    help="Anti-aliasing: samples x samples rays per pixel.",
+)
+@click.option(
+    "--captures",
+    type=click.IntRange(min=1),
+    default=12,
+    show_default=True,
+    help="Checkerboard poses of the calibration captures.",
+)
+@click.option(
+    "--capture-size",
+    type=(click.IntRange(min=64), click.IntRange(min=48)),
+    default=(640, 480),
+    show_default=True,
+    metavar="W H",
+    help="Picture size of the calibration captures.",
+)
+@click.option(
+    "--capture-noise",
+    type=FiniteFloat(min=0),
+    default=0.0,
+    show_default=True,
+    help="Standard deviation of the noise added to the captures (grey levels); "
+    "noise-free captures compress ten times better, which keeps sample_data small.",
+)
+@click.option(
+    "--part",
+    "parts",
+    multiple=True,
+    type=click.Choice(PARTS),
+    help="Write only this part (repeatable; default: all).",
+)
 @program
-def command(out_dir, width, height, frames, views, seed, samples, captures, capture_size,
-            capture_noise, parts):
+def command(
+    out_dir,
+    width,
+    height,
+    frames,
+    views,
+    seed,
+    samples,
+    captures,
+    capture_size,
+    capture_noise,
+    parts,
+):
     """Render the synthetic multiview scene into OUT_DIR, with exact ground truth.
 
     \b
@@ -79,8 +140,10 @@ def command(out_dir, width, height, frames, views, seed, samples, captures, capt
     The same options give the same bytes.
     """
     if width % 8 or height % 8:
-        raise UsageError(f"--width and --height must be multiples of 8 (4:2:0 chroma, VSRS "
-                         f"row alignment), got {width}x{height}")
+        raise UsageError(
+            f"--width and --height must be multiples of 8 (4:2:0 chroma, VSRS "
+            f"row alignment), got {width}x{height}"
+        )
     parts = parts or PARTS
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -94,32 +157,70 @@ def command(out_dir, width, height, frames, views, seed, samples, captures, capt
         folder = out / part
         folder.mkdir(exist_ok=True)
         distorted = part == "distorted"
-        _write_views(folder, rigs[part], scene, frames=frames, samples=samples,
-                     mismatches=mismatches if distorted else None, depth8=not distorted,
-                     progress=progress)
+        _write_views(
+            folder,
+            rigs[part],
+            scene,
+            frames=frames,
+            samples=samples,
+            mismatches=mismatches if distorted else None,
+            depth8=not distorted,
+            progress=progress,
+        )
         write_cameras(folder / "cameras.txt", rigs[part])
         if not distorted:
             # The MPEG-I JSON format holds no lens distortion.
-            write_json_cameras(folder / "cameras.json", rigs[part], depth_range=depth_range,
-                               frame_count=frames)
-            _write_configs(folder, rigs[part], width=width, height=height, frames=frames,
-                           depth_range=depth_range, general=part == "arc")
+            write_json_cameras(
+                folder / "cameras.json", rigs[part], depth_range=depth_range, frame_count=frames
+            )
+            _write_configs(
+                folder,
+                rigs[part],
+                width=width,
+                height=height,
+                frames=frames,
+                depth_range=depth_range,
+                general=part == "arc",
+            )
         if distorted:
             # the array's own calibration captures, for the chain capture -> calibrate ->
             # rectify: boards near the middle of the line, seen by most of its cameras
-            _write_checkerboard(folder / "checkerboard", rigs[part], count=DISTORTED_CAPTURES,
-                                noise=capture_noise, seed=seed + 2, distance=(0.6, 0.9),
-                                lateral=0.15)
+            _write_checkerboard(
+                folder / "checkerboard",
+                rigs[part],
+                count=DISTORTED_CAPTURES,
+                noise=capture_noise,
+                seed=seed + 2,
+                distance=(0.6, 0.9),
+                lateral=0.15,
+            )
     if "checkerboard" in parts:
-        _write_checkerboard(out / "checkerboard",
-                            calibration_rig(n=views, size=tuple(capture_size), seed=seed),
-                            count=captures, noise=capture_noise, seed=seed + 1)
-    _write_json(out / "truth.json", _scene_truth(scene, rigs, mismatches, width=width,
-                                                 height=height, frames=frames, seed=seed))
+        _write_checkerboard(
+            out / "checkerboard",
+            calibration_rig(n=views, size=tuple(capture_size), seed=seed),
+            count=captures,
+            noise=capture_noise,
+            seed=seed + 1,
+        )
+    _write_json(
+        out / "truth.json",
+        _scene_truth(scene, rigs, mismatches, width=width, height=height, frames=frames, seed=seed),
+    )
     with atomic_output(out / "README.md", "w") as handle:
-        handle.write(_readme(scene, width=width, height=height, frames=frames, views=views,
-                             captures=captures, capture_size=tuple(capture_size),
-                             capture_noise=capture_noise, samples=samples, seed=seed))
+        handle.write(
+            _readme(
+                scene,
+                width=width,
+                height=height,
+                frames=frames,
+                views=views,
+                captures=captures,
+                capture_size=tuple(capture_size),
+                capture_noise=capture_noise,
+                samples=samples,
+                seed=seed,
+            )
+        )
 
 
 def _texture_name(index: int, width: int, height: int) -> str:
@@ -139,20 +240,37 @@ def _write_views(folder: Path, cameras, scene, *, frames, samples, mismatches, d
         depth16_format = YuvFormat(width, height, chroma="400", bits=16)
         with contextlib.ExitStack() as stack:
             texture = stack.enter_context(
-                open_writer(folder / _texture_name(index, width, height), texture_format))
-            depth16 = stack.enter_context(open_writer(
-                folder / _depth_name(index, width, height, depth16_format.pix_fmt), depth16_format))
-            depth8 = stack.enter_context(open_writer(
-                folder / _depth_name(index, width, height, texture_format.pix_fmt),
-                texture_format)) if depth8 else None
+                open_writer(folder / _texture_name(index, width, height), texture_format)
+            )
+            depth16 = stack.enter_context(
+                open_writer(
+                    folder / _depth_name(index, width, height, depth16_format.pix_fmt),
+                    depth16_format,
+                )
+            )
+            depth8 = (
+                stack.enter_context(
+                    open_writer(
+                        folder / _depth_name(index, width, height, texture_format.pix_fmt),
+                        texture_format,
+                    )
+                )
+                if depth8
+                else None
+            )
             for frame in range(frames):
                 result = render(scene, camera, frame=frame, samples=samples)
-                color = result.color if mismatches is None else mismatches[index].apply(result.color)
+                color = (
+                    result.color if mismatches is None else mismatches[index].apply(result.color)
+                )
                 texture.write(rgb_to_yuv(color))
                 depth16.write((z_to_depth(result.depth, znear, zfar, bits=16),))
                 if depth8 is not None:
-                    depth8.write(frame_from_luma(texture_format,
-                                                 z_to_depth(result.depth, znear, zfar, bits=8)))
+                    depth8.write(
+                        frame_from_luma(
+                            texture_format, z_to_depth(result.depth, znear, zfar, bits=8)
+                        )
+                    )
                 progress.advance()
 
 
@@ -161,51 +279,76 @@ def _write_configs(folder: Path, cameras, *, width, height, frames, depth_range,
     middle = len(cameras) // 2
     left, center, right = cameras[middle - 1], cameras[middle], cameras[middle + 1]
     znear, zfar = depth_range
-    common = dict(depth_type=0, source_width=width, source_height=height, start_frame=0,
-                  total_number_of_frames=frames)
+    common = {
+        "depth_type": 0,
+        "source_width": width,
+        "source_height": height,
+        "start_frame": 0,
+        "total_number_of_frames": frames,
+    }
     vsrs = VsrsParams(
         **common,
-        left_nearest_depth_value=znear, left_farthest_depth_value=zfar,
-        right_nearest_depth_value=znear, right_farthest_depth_value=zfar,
+        left_nearest_depth_value=znear,
+        left_farthest_depth_value=zfar,
+        right_nearest_depth_value=znear,
+        right_farthest_depth_value=zfar,
         camera_parameter_file="cameras.txt",
-        left_camera_name=left.name, virtual_camera_name=center.name, right_camera_name=right.name,
+        left_camera_name=left.name,
+        virtual_camera_name=center.name,
+        right_camera_name=right.name,
         left_view_image_name=_texture_name(middle - 1, width, height),
         right_view_image_name=_texture_name(middle + 1, width, height),
         left_depth_map_name=_depth_name(middle - 1, width, height, "yuv420p"),
         right_depth_map_name=_depth_name(middle + 1, width, height, "yuv420p"),
         output_virtual_view_image_name=f"synthesized_v{middle}_texture_{width}x{height}_yuv420p.yuv",
-        synthesis_mode=0 if general else 1)
+        synthesis_mode=0 if general else 1,
+    )
     write_config(folder / f"synthesize_{center.name}.cfg", vsrs)
     if general:
         # Converging cameras have no single disparity: search z directly.
-        search = dict(nearest_search_depth_value=znear, farthest_search_depth_value=zfar,
-                      number_of_depth_steps=128)
+        search = {
+            "nearest_search_depth_value": znear,
+            "farthest_search_depth_value": zfar,
+            "number_of_depth_steps": 128,
+        }
     else:
         # Disparity to the farther neighbour (BaselineBasis 1) over the scene's z range.
         baseline = max(abs(center.t[0] - left.t[0]), abs(right.t[0] - center.t[0]))
         lowest = int(np.floor(center.fx * baseline / zfar))
         highest = int(np.ceil(center.fx * baseline / znear))
-        search = dict(minimum_value_of_disparity_search_range=lowest,
-                      maximum_value_of_disparity_search_range=highest,
-                      minimum_value_of_disparity_range=lowest,
-                      maximum_value_of_disparity_range=highest)
+        search = {
+            "minimum_value_of_disparity_search_range": lowest,
+            "maximum_value_of_disparity_search_range": highest,
+            "minimum_value_of_disparity_range": lowest,
+            "maximum_value_of_disparity_range": highest,
+        }
     ders = DersParams(
-        **common, **search,
-        left_camera_name=left.name, center_camera_name=center.name, right_camera_name=right.name,
+        **common,
+        **search,
+        left_camera_name=left.name,
+        center_camera_name=center.name,
+        right_camera_name=right.name,
         file_left_view_image=_texture_name(middle - 1, width, height),
         file_center_view_image=_texture_name(middle, width, height),
         file_right_view_image=_texture_name(middle + 1, width, height),
         file_output_depth_map_image=f"estimated_v{middle}_depth_{width}x{height}_yuv420p.yuv",
         file_camera_parameter="cameras.txt",
         # Depth values on the same Znear/Zfar scale as the ground truth maps.
-        nearest_depth_value=znear, farthest_depth_value=zfar)
+        nearest_depth_value=znear,
+        farthest_depth_value=zfar,
+    )
     write_config(folder / f"depth_{center.name}.cfg", ders)
 
 
 def _camera_truth(camera) -> dict:
-    return {"name": camera.name, "K": camera.K.tolist(), "R": camera.R.tolist(),
-            "t": camera.t.tolist(), "distortion": camera.distortion.tolist(),
-            "size": list(camera.size)}
+    return {
+        "name": camera.name,
+        "K": camera.K.tolist(),
+        "R": camera.R.tolist(),
+        "t": camera.t.tolist(),
+        "distortion": camera.distortion.tolist(),
+        "size": list(camera.size),
+    }
 
 
 def _scene_truth(scene, rigs, mismatches, *, width, height, frames, seed) -> dict:
@@ -213,21 +356,36 @@ def _scene_truth(scene, rigs, mismatches, *, width, height, frames, seed) -> dic
         "generator": f"mvtools {mvtools.__version__} scene, seed {seed}",
         "units": "metres; pixels for K and image positions",
         "camera_convention": "x_cam = R (X - t): t is the camera centre, R world-to-camera; "
-                             "x right, y down, z forward; pixel centres at integer (u, v)",
+        "x right, y down, z forward; pixel centres at integer (u, v)",
         "depth": "z along each camera's axis (DepthType 0) of the pixel-centre ray; "
-                 "8-bit and 16-bit maps: v = round(vmax (1/z - 1/zfar) / (1/znear - 1/zfar))",
-        "znear": scene.znear, "zfar": scene.zfar,
-        "size": [width, height], "frames": frames,
-        "rigs": {name: [_camera_truth(camera) for camera in cameras]
-                 for name, cameras in rigs.items()},
+        "8-bit and 16-bit maps: v = round(vmax (1/z - 1/zfar) / (1/znear - 1/zfar))",
+        "znear": scene.znear,
+        "zfar": scene.zfar,
+        "size": [width, height],
+        "frames": frames,
+        "rigs": {
+            name: [_camera_truth(camera) for camera in cameras] for name, cameras in rigs.items()
+        },
         "color_mismatch": {
             "model": "out = clip(gain * in ** gamma + offset, 0, 1) per RGB channel on [0, 1] "
-                     "values, before the BT.601 limited-range YUV conversion",
-            "cameras": {camera.name: {"gain": list(m.gain), "offset": list(m.offset),
-                                      "gamma": list(m.gamma)}
-                        for camera, m in zip(rigs["distorted"], mismatches)}},
-        "objects": [{"name": p.name, "kind": type(p).__name__.lower(),
-                     "velocity_per_frame": p.velocity.tolist()} for p in scene.primitives],
+            "values, before the BT.601 limited-range YUV conversion",
+            "cameras": {
+                camera.name: {
+                    "gain": list(m.gain),
+                    "offset": list(m.offset),
+                    "gamma": list(m.gamma),
+                }
+                for camera, m in zip(rigs["distorted"], mismatches)
+            },
+        },
+        "objects": [
+            {
+                "name": p.name,
+                "kind": type(p).__name__.lower(),
+                "velocity_per_frame": p.velocity.tolist(),
+            }
+            for p in scene.primitives
+        ],
     }
 
 
@@ -242,25 +400,36 @@ def _write_checkerboard(folder: Path, cameras, *, count, noise, seed, **poses):
     poses = []
     for p, (rotation, translation) in enumerate(zip(rotations, translations)):
         # One pose at a time: progress to show, and images not all held at once.
-        captured = capture_checkerboard(cameras, board, rotation[None], translation[None],
-                                        noise=noise, seed=(seed, p))
+        captured = capture_checkerboard(
+            cameras, board, rotation[None], translation[None], noise=noise, seed=(seed, p)
+        )
         for c, camera in enumerate(cameras):
             write_image(folder / camera.name / f"capture{p:02d}.png", captured.images[c, 0])
-        poses.append({"image": f"{{camera}}/capture{p:02d}.png",
-                      "rotation": rotation.tolist(), "translation": translation.tolist(),
-                      "visible": {camera.name: bool(captured.visible[c, 0])
-                                  for c, camera in enumerate(cameras)},
-                      "corners": {camera.name: captured.corners[c, 0].tolist()
-                                  for c, camera in enumerate(cameras)}})
+        poses.append(
+            {
+                "image": f"{{camera}}/capture{p:02d}.png",
+                "rotation": rotation.tolist(),
+                "translation": translation.tolist(),
+                "visible": {
+                    camera.name: bool(captured.visible[c, 0]) for c, camera in enumerate(cameras)
+                },
+                "corners": {
+                    camera.name: captured.corners[c, 0].tolist() for c, camera in enumerate(cameras)
+                },
+            }
+        )
         progress.advance()
     truth = {
         "units": "metres; pixels for K and corner positions (pixel centres at integers)",
         "camera_convention": "x_cam = R (X - t); distortion (k1, k2) in OpenCV's model",
-        "board": {"inner_corners": list(board.inner_corners), "square_size": board.square_size,
-                  "border": board.border,
-                  "object_points": "corner (i, j) at (i * square_size, j * square_size, 0), "
-                                   "row by row (i fastest), OpenCV's order",
-                  "pose": "X_world = rotation @ X_board + translation"},
+        "board": {
+            "inner_corners": list(board.inner_corners),
+            "square_size": board.square_size,
+            "border": board.border,
+            "object_points": "corner (i, j) at (i * square_size, j * square_size, 0), "
+            "row by row (i fastest), OpenCV's order",
+            "pose": "X_world = rotation @ X_board + translation",
+        },
         "noise_std": noise,
         "cameras": [_camera_truth(camera) for camera in cameras],
         "captures": poses,
@@ -277,16 +446,24 @@ def _json_text(value, indent: str = "") -> str:
     """JSON with one line per list of numbers (a matrix row, a corner), readable and diffable."""
     inner = indent + "  "
     if isinstance(value, dict):
-        items = [f"{inner}{json.dumps(key)}: {_json_text(item, inner)}" for key, item in value.items()]
+        items = [
+            f"{inner}{json.dumps(key)}: {_json_text(item, inner)}" for key, item in value.items()
+        ]
         return "{\n" + ",\n".join(items) + "\n" + indent + "}" if items else "{}"
     if isinstance(value, list) and any(isinstance(item, (dict, list)) for item in value):
-        return ("[\n" + ",\n".join(inner + _json_text(item, inner) for item in value)
-                + "\n" + indent + "]")
+        return (
+            "[\n"
+            + ",\n".join(inner + _json_text(item, inner) for item in value)
+            + "\n"
+            + indent
+            + "]"
+        )
     return json.dumps(value)
 
 
-def _readme(scene, *, width, height, frames, views, captures, capture_size, capture_noise,
-            samples, seed) -> str:
+def _readme(
+    scene, *, width, height, frames, views, captures, capture_size, capture_noise, samples, seed
+) -> str:
     middle = views // 2
     distorted_captures = DISTORTED_CAPTURES
     return f"""# mvtools sample data

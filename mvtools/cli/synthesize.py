@@ -68,37 +68,72 @@ DEFAULT_HOLE_FILLING = "background-diffusion"
 
 
 #: Command-line names of VSRS keys beyond ``--`` + the key in snake case.
-_SECONDARY_NAMES = {"total_number_of_frames": ("--frames",),
-                    "output_virtual_view_image_name": ("-o", "--output")}
+_SECONDARY_NAMES = {
+    "total_number_of_frames": ("--frames",),
+    "output_virtual_view_image_name": ("-o", "--output"),
+}
 
 
 @click.command(name="synthesize", cls=ProgramCommand)
 @click.argument("config", type=click.Path(dir_okay=False))
 @overrides_argument
 @data_dir_option
-@click.option("--view", "extra_views", multiple=True, nargs=5,
-              type=(str, click.Path(dir_okay=False), click.Path(dir_okay=False), float, float),
-              metavar="NAME TEXTURE DEPTH ZNEAR ZFAR",
-              help="A further reference view (repeatable): camera NAME of the camera file, "
-                   "its texture and depth videos and their Znear, Zfar. With the left and "
-                   "right views of the configuration, or instead of them.")
-@click.option("--hole-filling", type=click.Choice(HOLE_FILLING), default=None,
-              help=f"How the holes no view saw are filled: background is VSRS's row rule, "
-                   f"inpaint plain image inpainting (default: {DEFAULT_HOLE_FILLING}, or "
-                   "inpaint with IvsrsInpaint 0).")
-@click.option("--output-depth", type=click.Path(dir_okay=False), default=None,
-              help="Also write the virtual view's depth map, in the format of the left depth map "
-                   "(8-bit 4:2:0 with chroma 128, or as its name says).")
-@click.option("--output-depth-range", nargs=2, type=DEPTH, default=None, metavar="ZNEAR ZFAR",
-              help="Znear, Zfar of --output-depth (default: the left view's).")
-@click.option("--output-holes", type=click.Path(dir_okay=False), default=None,
-              help="Also write the hole mask: 8-bit grey (4:0:0) video, 255 where no view saw the "
-                   "scene (before hole filling), 0 elsewhere.")
+@click.option(
+    "--view",
+    "extra_views",
+    multiple=True,
+    nargs=5,
+    type=(str, click.Path(dir_okay=False), click.Path(dir_okay=False), float, float),
+    metavar="NAME TEXTURE DEPTH ZNEAR ZFAR",
+    help="A further reference view (repeatable): camera NAME of the camera file, "
+    "its texture and depth videos and their Znear, Zfar. With the left and "
+    "right views of the configuration, or instead of them.",
+)
+@click.option(
+    "--hole-filling",
+    type=click.Choice(HOLE_FILLING),
+    default=None,
+    help=f"How the holes no view saw are filled: background is VSRS's row rule, "
+    f"inpaint plain image inpainting (default: {DEFAULT_HOLE_FILLING}, or "
+    "inpaint with IvsrsInpaint 0).",
+)
+@click.option(
+    "--output-depth",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Also write the virtual view's depth map, in the format of the left depth map "
+    "(8-bit 4:2:0 with chroma 128, or as its name says).",
+)
+@click.option(
+    "--output-depth-range",
+    nargs=2,
+    type=DEPTH,
+    default=None,
+    metavar="ZNEAR ZFAR",
+    help="Znear, Zfar of --output-depth (default: the left view's).",
+)
+@click.option(
+    "--output-holes",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Also write the hole mask: 8-bit grey (4:0:0) video, 255 where no view saw the "
+    "scene (before hole filling), 0 elsewhere.",
+)
 @transposed_rotation_option
 @param_options(VsrsParams, _SECONDARY_NAMES)
 @program
-def command(config, overrides, data_dirs, extra_views, hole_filling, output_depth,
-            output_depth_range, output_holes, transposed_rotation, **options):
+def command(
+    config,
+    overrides,
+    data_dirs,
+    extra_views,
+    hole_filling,
+    output_depth,
+    output_depth_range,
+    output_holes,
+    transposed_rotation,
+    **options,
+):
     """Synthesize the virtual view that CONFIG describes.
 
     CONFIG is a VSRS configuration file, read unmodified: the camera parameter file
@@ -120,25 +155,44 @@ def command(config, overrides, data_dirs, extra_views, hole_filling, output_dept
     Exits with 2 for a bad configuration or option, 1 for damaged or inconsistent
     data, leaving no output file.
     """
-    loaded = load_config(VsrsParams, config, overrides=overrides, options=options,
-                         data_dirs=data_dirs, transposed_rotation=transposed_rotation)
+    loaded = load_config(
+        VsrsParams,
+        config,
+        overrides=overrides,
+        options=options,
+        data_dirs=data_dirs,
+        transposed_rotation=transposed_rotation,
+    )
     params = loaded.params
     output = _output_path(loaded)
     extras = [_extra_reference(loaded, view, data_dirs) for view in extra_views]
     references = _config_references(loaded) + extras
     if not references:
-        raise ConfigError("no reference view: give LeftCameraName (and RightCameraName) or --view",
-                          key="LeftCameraName")
+        raise ConfigError(
+            "no reference view: give LeftCameraName (and RightCameraName) or --view",
+            key="LeftCameraName",
+        )
     references = _facing(references, params.depth_type)
-    virtual = facing_camera(_camera(loaded, "virtual_camera_name"), references[0].depth_range,
-                            depth_type=params.depth_type)
+    virtual = facing_camera(
+        _camera(loaded, "virtual_camera_name"),
+        references[0].depth_range,
+        depth_type=params.depth_type,
+    )
     algorithm = synthesis_options(params, hole_filling=hole_filling)
     extra_outputs = {"depth": output_depth, "holes": output_holes}
-    outputs = {"view": output, **{name: _command_line_output(f"--output-{name}", path)
-                                  for name, path in extra_outputs.items() if path is not None}}
+    outputs = {
+        "view": output,
+        **{
+            name: _command_line_output(f"--output-{name}", path)
+            for name, path in extra_outputs.items()
+            if path is not None
+        },
+    }
     size = (params.source_width, params.source_height)
     with contextlib.ExitStack() as stack:
-        textures = [stack.enter_context(_open(ref.texture, size, ref.texture_key)) for ref in references]
+        textures = [
+            stack.enter_context(_open(ref.texture, size, ref.texture_key)) for ref in references
+        ]
         depths = [stack.enter_context(_open(ref.depth, size, ref.depth_key)) for ref in references]
         # Every input is now open, so the run's guard knows it: an output that names
         # one is refused before any work (two outputs of one name when they open).
@@ -146,35 +200,72 @@ def command(config, overrides, data_dirs, extra_views, hole_filling, output_dept
             check_output(path)
         texture_format = _texture_format(textures)
         frames = loaded.frame_range(textures + depths)
-        codings = [_depth_coding(ref.depth_range, reader.format.bits, ref.depth_key,
-                                 depth_type=params.depth_type)
-                   for ref, reader in zip(references, depths)]
+        codings = [
+            _depth_coding(
+                ref.depth_range, reader.format.bits, ref.depth_key, depth_type=params.depth_type
+            )
+            for ref, reader in zip(references, depths)
+        ]
         depth_range = references[0].depth_range
         with at_fault(ConfigError, path=config):
-            synthesizer = Synthesizer(virtual, [ref.camera for ref in references], algorithm,
-                                      size=size, depth_range=depth_range)
+            synthesizer = Synthesizer(
+                virtual,
+                [ref.camera for ref in references],
+                algorithm,
+                size=size,
+                depth_range=depth_range,
+            )
         depth_output = None
         if "depth" in outputs:
             out_range = tuple(output_depth_range) if output_depth_range else depth_range
             depth_output = _DepthOutput(
-                _depth_coding(out_range, depths[0].format.bits, "--output-depth-range",
-                              depth_type=params.depth_type),
-                depths[0].format, virtual if params.depth_type == 1 else None)
-        formats = {"view": texture_format.with_(chroma="420"), "depth": depths[0].format,
-                   "holes": YuvFormat(*size, chroma="400")}
-        writers = {name: stack.enter_context(open_writer(path, formats[name]))
-                   for name, path in outputs.items()}
-        LOG.info("synthesizing %s from %s (%s mode, Precision %d), %d frame%s from frame %d",
-                 virtual.name, ", ".join(ref.camera.name for ref in references),
-                 algorithm.mode, algorithm.precision, len(frames),
-                 "s" if len(frames) != 1 else "", frames.start)
-        loop = _FrameLoop(synthesizer, [ref.camera for ref in references], textures, depths, codings,
-                          params.color_space, texture_format, writers, depth_output)
+                _depth_coding(
+                    out_range,
+                    depths[0].format.bits,
+                    "--output-depth-range",
+                    depth_type=params.depth_type,
+                ),
+                depths[0].format,
+                virtual if params.depth_type == 1 else None,
+            )
+        formats = {
+            "view": texture_format.with_(chroma="420"),
+            "depth": depths[0].format,
+            "holes": YuvFormat(*size, chroma="400"),
+        }
+        writers = {
+            name: stack.enter_context(open_writer(path, formats[name]))
+            for name, path in outputs.items()
+        }
+        LOG.info(
+            "synthesizing %s from %s (%s mode, Precision %d), %d frame%s from frame %d",
+            virtual.name,
+            ", ".join(ref.camera.name for ref in references),
+            algorithm.mode,
+            algorithm.precision,
+            len(frames),
+            "s" if len(frames) != 1 else "",
+            frames.start,
+        )
+        loop = _FrameLoop(
+            synthesizer,
+            [ref.camera for ref in references],
+            textures,
+            depths,
+            codings,
+            params.color_space,
+            texture_format,
+            writers,
+            depth_output,
+        )
         if synthesizer.carries_state and frames.start:
             # the temporal depth filter carries state from frame 0: a chunk of a longer
             # run takes in the frames before it to give the bytes of the whole run
-            LOG.info("taking in frames 0 to %d first (TemporalImprovementOption 1 carries "
-                     "depth from frame to frame)", frames.start - 1)
+            LOG.info(
+                "taking in frames 0 to %d first (TemporalImprovementOption 1 carries "
+                "depth from frame to frame)",
+                frames.start - 1,
+            )
             warm_up = Progress(frames.start, "frames taken in")
             for index in range(frames.start):
                 synthesizer.warm_up(_FrameViews(loop, index))
@@ -218,15 +309,20 @@ class _FrameLoop:
 
     def reference(self, view: int, index: int) -> ReferenceView:
         """Frame ``index`` of reference ``view``, in the working space."""
-        color = to_working(self.textures[view].read(index), color_space=self.color_space,
-                           bits=self.texture_format.bits)
-        return ReferenceView(self.cameras[view], color,
-                             self.codings[view].z(self.depths[view].read(index)[0]))
+        color = to_working(
+            self.textures[view].read(index),
+            color_space=self.color_space,
+            bits=self.texture_format.bits,
+        )
+        return ReferenceView(
+            self.cameras[view], color, self.codings[view].z(self.depths[view].read(index)[0])
+        )
 
     def process(self, index: int) -> None:
         result = self.synthesizer.frame(_FrameViews(self, index))
-        self.writers["view"].write(from_working(result.color, color_space=self.color_space,
-                                                bits=self.texture_format.bits))
+        self.writers["view"].write(
+            from_working(result.color, color_space=self.color_space, bits=self.texture_format.bits)
+        )
         if self.depth_output is not None:
             z = result.z
             camera = self.depth_output.world_z_camera
@@ -253,6 +349,7 @@ class _FrameViews(Sequence):
 
 
 # --------------------------------------------------------------------------- references
+
 
 @dataclass(frozen=True)
 class _Reference:
@@ -289,13 +386,17 @@ def _config_references(loaded: LoadedConfig) -> list[_Reference]:
         if depth_range is None:
             raise param_entry(params, f"{side}_nearest_depth_value").error(
                 f"the depth range of camera {camera.name!r} is not given ({side.title()}Nearest"
-                f"DepthValue and {side.title()}FarthestDepthValue)")
-        keys = [param_entry(params, field).key for field in
-                (f"{side}_view_image_name", f"{side}_depth_map_name")]
+                f"DepthValue and {side.title()}FarthestDepthValue)"
+            )
+        keys = [
+            param_entry(params, field).key
+            for field in (f"{side}_view_image_name", f"{side}_depth_map_name")
+        ]
         references.append(_Reference(camera, *files, tuple(depth_range), *keys))
     if len(references) == 1 and not params.left_camera_name:
         raise param_entry(params, "left_camera_name").error(
-            "RightCameraName is given without LeftCameraName; give one reference view as the left")
+            "RightCameraName is given without LeftCameraName; give one reference view as the left"
+        )
     return references
 
 
@@ -314,19 +415,26 @@ def _facing(references: list[_Reference], depth_type: int) -> list[_Reference]:
         sign = depth_sign(*references[0].depth_range)
         for ref in references[1:]:
             if depth_sign(*ref.depth_range) != sign:
-                raise UsageError(f"depth range {ref.depth_range[0]:g} {ref.depth_range[1]:g} "
-                                 f"has the other sign than {references[0].camera.name!r}'s: "
-                                 "the views would put the scene on opposite sides of their "
-                                 "cameras", key=ref.depth_key)
-    return [dataclasses.replace(ref, camera=facing_camera(ref.camera, ref.depth_range,
-                                                          depth_type=depth_type))
-            for ref in references]
+                raise UsageError(
+                    f"depth range {ref.depth_range[0]:g} {ref.depth_range[1]:g} "
+                    f"has the other sign than {references[0].camera.name!r}'s: "
+                    "the views would put the scene on opposite sides of their "
+                    "cameras",
+                    key=ref.depth_key,
+                )
+    return [
+        dataclasses.replace(
+            ref, camera=facing_camera(ref.camera, ref.depth_range, depth_type=depth_type)
+        )
+        for ref in references
+    ]
 
 
 def _output_path(loaded: LoadedConfig) -> Path:
     if "output_virtual_view_image_name" not in loaded.outputs:
         raise param_entry(loaded.params, "output_virtual_view_image_name").error(
-            "no output file given", UsageError)
+            "no output file given", UsageError
+        )
     return loaded.outputs["output_virtual_view_image_name"]
 
 
@@ -343,8 +451,9 @@ def _open(path: Path, size: tuple[int, int], key: str) -> VideoReader:
 def _texture_format(readers: list[VideoReader]) -> YuvFormat:
     for reader in readers:
         if reader.format.chroma == "400":
-            raise DataError("a texture needs colour planes, this video is grey (4:0:0)",
-                            path=reader.path)
+            raise DataError(
+                "a texture needs colour planes, this video is grey (4:0:0)", path=reader.path
+            )
     bits = {reader.format.bits for reader in readers}
     if len(bits) > 1:
         formats = ", ".join(f"{reader.path} is {reader.format.pix_fmt}" for reader in readers)
@@ -353,6 +462,7 @@ def _texture_format(readers: list[VideoReader]) -> YuvFormat:
 
 
 # --------------------------------------------------------------------------- conversions
+
 
 def _depth_coding(depth_range, bits: int, key: str, *, depth_type: int) -> DepthCoding:
     with at_fault(UsageError, key=key):

@@ -6,8 +6,20 @@ tables), :mod:`~mvtools.color.correspondence` (samples that show the same scene 
 :mod:`~mvtools.color.chart` (colour science, ColorChecker detection, curve plus matrix).
 """
 
-from mvtools.color.space import (MATRICES, downsample_chroma, rgb_to_yuv, rgb_to_yuv_matrix,
-                                 upsample_chroma, yuv_to_rgb)
+from mvtools.color.space import (
+    MATRICES,
+    downsample_chroma,
+    rgb_to_yuv,
+    rgb_to_yuv_matrix,
+    upsample_chroma,
+    yuv_to_rgb,
+)
 
-__all__ = ["MATRICES", "downsample_chroma", "rgb_to_yuv", "rgb_to_yuv_matrix", "upsample_chroma",
-           "yuv_to_rgb"]
+__all__ = [
+    "MATRICES",
+    "downsample_chroma",
+    "rgb_to_yuv",
+    "rgb_to_yuv_matrix",
+    "upsample_chroma",
+    "yuv_to_rgb",
+]

@@ -23,8 +23,8 @@ Conventions
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Sequence
 
 import cv2
 import numpy as np
@@ -32,19 +32,37 @@ import scipy.optimize
 
 from mvtools.errors import DataError
 
-__all__ = ["WHITE_D50", "WHITE_D65", "BRADFORD", "SRGB_TO_XYZ", "XYZ_TO_SRGB", "GREY_PATCHES",
-           "srgb_to_linear", "linear_to_srgb", "gamma_to_linear", "linear_to_gamma",
-           "xy_to_xyz", "bradford_matrix", "xyz_to_lab", "lab_to_xyz", "linear_rgb_to_lab",
-           "lab_to_linear_rgb", "delta_e_2000", "sample_patches", "detect_chart",
-           "ChartCorrection", "fit_chart_correction"]
+__all__ = [
+    "BRADFORD",
+    "GREY_PATCHES",
+    "SRGB_TO_XYZ",
+    "WHITE_D50",
+    "WHITE_D65",
+    "XYZ_TO_SRGB",
+    "ChartCorrection",
+    "bradford_matrix",
+    "delta_e_2000",
+    "detect_chart",
+    "fit_chart_correction",
+    "gamma_to_linear",
+    "lab_to_linear_rgb",
+    "lab_to_xyz",
+    "linear_rgb_to_lab",
+    "linear_to_gamma",
+    "linear_to_srgb",
+    "sample_patches",
+    "srgb_to_linear",
+    "xy_to_xyz",
+    "xyz_to_lab",
+]
 
 WHITE_D65 = np.array([0.95047, 1.0, 1.08883])
 WHITE_D50 = np.array([0.34567 / 0.35850, 1.0, (1.0 - 0.34567 - 0.35850) / 0.35850])
 
 # Lam's cone-response matrix of the Bradford transform (column vectors: lms = BRADFORD @ xyz).
-BRADFORD = np.array([[0.8951, 0.2664, -0.1614],
-                     [-0.7502, 1.7135, 0.0367],
-                     [0.0389, -0.0685, 1.0296]])
+BRADFORD = np.array(
+    [[0.8951, 0.2664, -0.1614], [-0.7502, 1.7135, 0.0367], [0.0389, -0.0685, 1.0296]]
+)
 
 # Chromaticities of the sRGB (ITU-R BT.709) red, green and blue primaries.
 _SRGB_PRIMARIES = ((0.64, 0.33), (0.30, 0.60), (0.15, 0.06))
@@ -187,10 +205,15 @@ def xyz_to_lab(xyz, *, white=WHITE_D50) -> np.ndarray:
         (L*, a*, b*).
     """
     ratio = _colours(xyz, "xyz") / _white(white)
-    f = np.where(ratio > _LAB_DELTA ** 3, np.cbrt(ratio),
-                 ratio / (3 * _LAB_DELTA ** 2) + 4.0 / 29.0)
-    return np.stack([116.0 * f[..., 1] - 16.0, 500.0 * (f[..., 0] - f[..., 1]),
-                     200.0 * (f[..., 1] - f[..., 2])], axis=-1)
+    f = np.where(ratio > _LAB_DELTA**3, np.cbrt(ratio), ratio / (3 * _LAB_DELTA**2) + 4.0 / 29.0)
+    return np.stack(
+        [
+            116.0 * f[..., 1] - 16.0,
+            500.0 * (f[..., 0] - f[..., 1]),
+            200.0 * (f[..., 1] - f[..., 2]),
+        ],
+        axis=-1,
+    )
 
 
 def lab_to_xyz(lab, *, white=WHITE_D50) -> np.ndarray:
@@ -198,7 +221,7 @@ def lab_to_xyz(lab, *, white=WHITE_D50) -> np.ndarray:
     lab = _colours(lab, "lab")
     fy = (lab[..., 0] + 16.0) / 116.0
     f = np.stack([fy + lab[..., 1] / 500.0, fy, fy - lab[..., 2] / 200.0], axis=-1)
-    ratio = np.where(f > _LAB_DELTA, f ** 3, 3 * _LAB_DELTA ** 2 * (f - 4.0 / 29.0))
+    ratio = np.where(f > _LAB_DELTA, f**3, 3 * _LAB_DELTA**2 * (f - 4.0 / 29.0))
     return ratio * _white(white)
 
 
@@ -244,35 +267,43 @@ def delta_e_2000(lab1, lab2) -> np.ndarray:
     lightness1, a1, b1 = np.moveaxis(lab1, -1, 0)
     lightness2, a2, b2 = np.moveaxis(lab2, -1, 0)
     chroma_mean7 = (0.5 * (np.hypot(a1, b1) + np.hypot(a2, b2))) ** 7
-    g = 0.5 * (1.0 - np.sqrt(chroma_mean7 / (chroma_mean7 + 25.0 ** 7)))
+    g = 0.5 * (1.0 - np.sqrt(chroma_mean7 / (chroma_mean7 + 25.0**7)))
     a1, a2 = (1.0 + g) * a1, (1.0 + g) * a2
     chroma1, chroma2 = np.hypot(a1, b1), np.hypot(a2, b2)
     hue1 = np.degrees(np.arctan2(b1, a1)) % 360.0
     hue2 = np.degrees(np.arctan2(b2, a2)) % 360.0
     chromatic = chroma1 * chroma2 != 0
     hue_step = hue2 - hue1
-    hue_step = np.where(hue_step > 180.0, hue_step - 360.0,
-                        np.where(hue_step < -180.0, hue_step + 360.0, hue_step))
+    hue_step = np.where(
+        hue_step > 180.0, hue_step - 360.0, np.where(hue_step < -180.0, hue_step + 360.0, hue_step)
+    )
     hue_step = np.where(chromatic, hue_step, 0.0)
     delta_hue = 2.0 * np.sqrt(chroma1 * chroma2) * np.sin(np.radians(hue_step) / 2.0)
     hue_sum = hue1 + hue2
-    hue_mean = np.where(np.abs(hue1 - hue2) <= 180.0, hue_sum / 2.0,
-                        np.where(hue_sum < 360.0, (hue_sum + 360.0) / 2.0,
-                                 (hue_sum - 360.0) / 2.0))
+    hue_mean = np.where(
+        np.abs(hue1 - hue2) <= 180.0,
+        hue_sum / 2.0,
+        np.where(hue_sum < 360.0, (hue_sum + 360.0) / 2.0, (hue_sum - 360.0) / 2.0),
+    )
     hue_mean = np.where(chromatic, hue_mean, hue_sum)
     lightness_mean = 0.5 * (lightness1 + lightness2)
     chroma_mean = 0.5 * (chroma1 + chroma2)
     h = np.radians(hue_mean)
-    t = (1.0 - 0.17 * np.cos(h - np.radians(30.0)) + 0.24 * np.cos(2.0 * h)
-         + 0.32 * np.cos(3.0 * h + np.radians(6.0)) - 0.20 * np.cos(4.0 * h - np.radians(63.0)))
+    t = (
+        1.0
+        - 0.17 * np.cos(h - np.radians(30.0))
+        + 0.24 * np.cos(2.0 * h)
+        + 0.32 * np.cos(3.0 * h + np.radians(6.0))
+        - 0.20 * np.cos(4.0 * h - np.radians(63.0))
+    )
     rotation = np.radians(30.0) * np.exp(-(((hue_mean - 275.0) / 25.0) ** 2))
-    chroma_mean7 = chroma_mean ** 7
-    r_t = -2.0 * np.sqrt(chroma_mean7 / (chroma_mean7 + 25.0 ** 7)) * np.sin(2.0 * rotation)
+    chroma_mean7 = chroma_mean**7
+    r_t = -2.0 * np.sqrt(chroma_mean7 / (chroma_mean7 + 25.0**7)) * np.sin(2.0 * rotation)
     offset2 = (lightness_mean - 50.0) ** 2
     term_l = (lightness2 - lightness1) / (1.0 + 0.015 * offset2 / np.sqrt(20.0 + offset2))
     term_c = (chroma2 - chroma1) / (1.0 + 0.045 * chroma_mean)
     term_h = delta_hue / (1.0 + 0.015 * chroma_mean * t)
-    return np.sqrt(term_l ** 2 + term_c ** 2 + term_h ** 2 + r_t * term_c * term_h)
+    return np.sqrt(term_l**2 + term_c**2 + term_h**2 + r_t * term_c * term_h)
 
 
 def _layout(layout) -> tuple[int, int]:
@@ -308,7 +339,7 @@ def _transform(homography: np.ndarray, points: np.ndarray) -> np.ndarray:
 def _jacobian_determinant(homography: np.ndarray, points: np.ndarray) -> np.ndarray:
     """The determinant of the homography's Jacobian at ``points`` (..., 2): det(H) / w**3."""
     w = points @ homography[2, :2] + homography[2, 2]
-    return np.linalg.det(homography) / w ** 3
+    return np.linalg.det(homography) / w**3
 
 
 def _lattice_homography(corners, layout: tuple[int, int]) -> np.ndarray:
@@ -321,17 +352,19 @@ def _lattice_homography(corners, layout: tuple[int, int]) -> np.ndarray:
     following = np.roll(edges, -1, axis=0)
     # Clockwise in the image (y down) means positive turns at every corner.
     if np.any(edges[:, 0] * following[:, 1] - edges[:, 1] * following[:, 0] <= 0):
-        raise ValueError("corners must form a convex quadrilateral in the order top-left, "
-                         "top-right, bottom-right, bottom-left (clockwise in the image)")
+        raise ValueError(
+            "corners must form a convex quadrilateral in the order top-left, "
+            "top-right, bottom-right, bottom-left (clockwise in the image)"
+        )
     columns, rows = layout
-    lattice = np.array([[-0.5, -0.5], [columns - 0.5, -0.5], [columns - 0.5, rows - 0.5],
-                        [-0.5, rows - 0.5]])
+    lattice = np.array(
+        [[-0.5, -0.5], [columns - 0.5, -0.5], [columns - 0.5, rows - 0.5], [-0.5, rows - 0.5]]
+    )
     homography, _ = cv2.findHomography(lattice, corners, 0)
     return homography
 
 
-def _sample_outlines(to_image: np.ndarray, layout: tuple[int, int],
-                     fraction: float) -> np.ndarray:
+def _sample_outlines(to_image: np.ndarray, layout: tuple[int, int], fraction: float) -> np.ndarray:
     """Image corners (N, 4, 2) of the central square of side ``fraction`` of each cell."""
     columns, rows = layout
     centres = np.stack(np.meshgrid(np.arange(columns), np.arange(rows)), -1).reshape(-1, 1, 2)
@@ -340,37 +373,45 @@ def _sample_outlines(to_image: np.ndarray, layout: tuple[int, int],
 
 def _inside(outlines: np.ndarray, shape) -> bool:
     """Whether the outlines lie within the image's pixels (their outer edges)."""
-    return bool(np.all(outlines >= -0.5) and np.all(outlines[..., 0] <= shape[1] - 0.5)
-                and np.all(outlines[..., 1] <= shape[0] - 0.5))
+    return bool(
+        np.all(outlines >= -0.5)
+        and np.all(outlines[..., 0] <= shape[1] - 0.5)
+        and np.all(outlines[..., 1] <= shape[0] - 0.5)
+    )
 
 
-def _patch_means(image: np.ndarray, to_image: np.ndarray, layout: tuple[int, int],
-                 fraction: float) -> np.ndarray:
+def _patch_means(
+    image: np.ndarray, to_image: np.ndarray, layout: tuple[int, int], fraction: float
+) -> np.ndarray:
     """Mean of the pixels whose centres map inside the central square of each cell."""
     outlines = _sample_outlines(to_image, layout, fraction)
     if not _inside(outlines, image.shape):
         outside = [k for k, outline in enumerate(outlines) if not _inside(outline, image.shape)]
-        raise ValueError(f"patches {outside} lie (partly) outside the "
-                         f"{image.shape[1]}x{image.shape[0]} image")
+        raise ValueError(
+            f"patches {outside} lie (partly) outside the {image.shape[1]}x{image.shape[0]} image"
+        )
     columns = layout[0]
     inverse = np.linalg.inv(to_image)
     means = np.empty((len(outlines), image.shape[2]))
     for index, outline in enumerate(outlines):
         low = np.ceil(outline.min(axis=0)).astype(int)
         high = np.floor(outline.max(axis=0)).astype(int)
-        ys, xs = np.mgrid[low[1]:high[1] + 1, low[0]:high[0] + 1]
+        ys, xs = np.mgrid[low[1] : high[1] + 1, low[0] : high[0] + 1]
         lattice = _transform(inverse, np.stack([xs, ys], axis=-1).astype(np.float64))
         centre = np.array([index % columns, index // columns])
         inside = np.all(np.abs(lattice - centre) <= fraction / 2.0, axis=-1)
         if not inside.any():
-            raise ValueError(f"the sampled square of patch {index} holds no pixel centre; "
-                             "the chart is too small or fraction too low")
+            raise ValueError(
+                f"the sampled square of patch {index} holds no pixel centre; "
+                "the chart is too small or fraction too low"
+            )
         means[index] = image[ys[inside], xs[inside]].mean(axis=0)
     return means
 
 
-def sample_patches(image, corners, *, layout: tuple[int, int] = _CHART_LAYOUT,
-                   fraction: float = 0.5) -> np.ndarray:
+def sample_patches(
+    image, corners, *, layout: tuple[int, int] = _CHART_LAYOUT, fraction: float = 0.5
+) -> np.ndarray:
     """Mean colour of each patch of a chart.
 
     The patch area (bounded by ``corners``) is divided into ``layout`` equal cells by
@@ -440,8 +481,7 @@ def _unit_rgb(image) -> np.ndarray:
     if image.dtype.kind == "f":
         return image.astype(np.float32)
     if image.dtype.kind != "u":
-        raise ValueError(f"detect_chart needs unsigned integer or float samples, got "
-                         f"{image.dtype}")
+        raise ValueError(f"detect_chart needs unsigned integer or float samples, got {image.dtype}")
     return (image / np.iinfo(image.dtype).max).astype(np.float32)
 
 
@@ -461,7 +501,7 @@ def _patch_candidates(rgb: np.ndarray):
         x, y, w, h, area = stats[label]
         if not _MIN_PATCH_AREA <= area <= max_area:
             continue
-        mask = (labels[y:y + h, x:x + w] == label).astype(np.uint8)
+        mask = (labels[y : y + h, x : x + w] == label).astype(np.uint8)
         contours, _ = cv2.findContours(mask, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
         hull = cv2.convexHull(max(contours, key=cv2.contourArea))
         if area < _MIN_SOLIDITY * cv2.contourArea(hull):
@@ -473,8 +513,12 @@ def _patch_candidates(rgb: np.ndarray):
         if sides.min() < _MIN_SIDE_RATIO * sides.max():
             continue
         quad = quad.astype(np.float64)
-        basis = np.column_stack([quad[1] - quad[0] + quad[2] - quad[3],
-                                 quad[3] - quad[0] + quad[2] - quad[1]]) / 2.0
+        basis = (
+            np.column_stack(
+                [quad[1] - quad[0] + quad[2] - quad[3], quad[3] - quad[0] + quad[2] - quad[1]]
+            )
+            / 2.0
+        )
         # A four-sided region spans about its area; a kite or a sliver does not.
         if abs(np.linalg.det(basis)) < 0.5 * area:
             continue
@@ -506,8 +550,9 @@ def _pitch_ratios(centres: np.ndarray, bases: np.ndarray) -> np.ndarray:
     return np.abs(np.einsum("kab,kb->ka", np.linalg.inv(bases), nearest)).max(axis=1)
 
 
-def _lattice(centres: np.ndarray, bases: np.ndarray, areas: np.ndarray, ratios: np.ndarray,
-             seed: int) -> dict:
+def _lattice(
+    centres: np.ndarray, bases: np.ndarray, areas: np.ndarray, ratios: np.ndarray, seed: int
+) -> dict:
     """Integer lattice positions {candidate: (i, j)} of the candidates reachable from
     ``seed`` by steps of up to :data:`_MAX_STEP` patches, each measured in the edge basis
     of the patch it starts from, so that the lattice may bend with perspective. The
@@ -524,12 +569,17 @@ def _lattice(centres: np.ndarray, bases: np.ndarray, areas: np.ndarray, ratios: 
             steps = (centres - centres[current]) @ inverses[current].T / pitch
             rounded = np.rint(steps)
             reach = np.abs(rounded).max(axis=1)
-            near = ((np.abs(steps - rounded).max(axis=1) < _STEP_TOLERANCE)
-                    & (reach >= 1) & (reach <= _MAX_STEP)
-                    & (np.abs(np.log(areas / areas[current])) < np.log(_AREA_FACTOR)))
+            near = (
+                (np.abs(steps - rounded).max(axis=1) < _STEP_TOLERANCE)
+                & (reach >= 1)
+                & (reach <= _MAX_STEP)
+                & (np.abs(np.log(areas / areas[current])) < np.log(_AREA_FACTOR))
+            )
             for other in np.flatnonzero(near):
-                position = (positions[current][0] + int(rounded[other, 0]),
-                            positions[current][1] + int(rounded[other, 1]))
+                position = (
+                    positions[current][0] + int(rounded[other, 0]),
+                    positions[current][1] + int(rounded[other, 1]),
+                )
                 if other not in positions and position not in taken:
                     positions[other] = position
                     taken.add(position)
@@ -546,10 +596,15 @@ def _affine(matrix, translation) -> np.ndarray:
 
 # The chart upright, turned by a half turn and by either quarter turn: the map from
 # chart lattice coordinates (c, r) to those of the turned chart's 6 x 4 or 4 x 6 block.
-_TURNS = tuple(_affine(m, t) for m, t in (([[1, 0], [0, 1]], [0, 0]),
-                                          ([[-1, 0], [0, -1]], [5, 3]),
-                                          ([[0, -1], [1, 0]], [3, 0]),
-                                          ([[0, 1], [-1, 0]], [0, 5])))
+_TURNS = tuple(
+    _affine(m, t)
+    for m, t in (
+        ([[1, 0], [0, 1]], [0, 0]),
+        ([[-1, 0], [0, -1]], [5, 3]),
+        ([[0, -1], [1, 0]], [3, 0]),
+        ([[0, 1], [-1, 0]], [0, 5]),
+    )
+)
 
 
 def _looks_like_colorchecker(colours: np.ndarray) -> bool:
@@ -558,9 +613,12 @@ def _looks_like_colorchecker(colours: np.ndarray) -> bool:
     response and a moderate colour cast, false for the chart turned or misplaced."""
     greys = colours[list(GREY_PATCHES)]
     blue, green, red = colours[_BLUE], colours[_GREEN], colours[_RED]
-    return bool(np.all(np.diff(greys, axis=0) < 0)
-                and blue[2] > blue[:2].max() and green[1] > max(green[0], green[2])
-                and red[0] > red[1:].max())
+    return bool(
+        np.all(np.diff(greys, axis=0) < 0)
+        and blue[2] > blue[:2].max()
+        and green[1] > max(green[0], green[2])
+        and red[0] > red[1:].max()
+    )
 
 
 def _fit_grid(lattice: np.ndarray, points: np.ndarray, tolerance: float):
@@ -598,14 +656,16 @@ def _oriented_chart(rgb: np.ndarray, positions: dict, centres: np.ndarray):
                 inside = np.all((lattice >= [left, top]) & (lattice < [left, top] + block), axis=1)
                 if inside.sum() <= max(most, _MIN_PATCHES - 1):
                     continue
-                fitted = _fit_grid(lattice[inside].astype(np.float64), points[inside],
-                                   _STEP_TOLERANCE)
+                fitted = _fit_grid(
+                    lattice[inside].astype(np.float64), points[inside], _STEP_TOLERANCE
+                )
                 if fitted is None:
                     continue
                 candidate = fitted[0] @ _affine(np.eye(2), [left, top]) @ turn
                 outlines = _sample_outlines(candidate, _CHART_LAYOUT, _TEST_FRACTION)
                 if _inside(outlines, rgb.shape) and _looks_like_colorchecker(
-                        _patch_means(rgb, candidate, _CHART_LAYOUT, _TEST_FRACTION)):
+                    _patch_means(rgb, candidate, _CHART_LAYOUT, _TEST_FRACTION)
+                ):
                     best, most = candidate, int(inside.sum())
     return best
 
@@ -628,8 +688,9 @@ def _refine(rgb: np.ndarray, to_image: np.ndarray):
             return None
         means = _patch_means(rgb, to_image, _CHART_LAYOUT, _TEST_FRACTION)
         at = np.rint(_transform(to_image, junctions)).astype(int)
-        body = np.median(rgb[np.clip(at[:, 1], 0, height - 1), np.clip(at[:, 0], 0, width - 1)],
-                         axis=0)
+        body = np.median(
+            rgb[np.clip(at[:, 1], 0, height - 1), np.clip(at[:, 0], 0, width - 1)], axis=0
+        )
         inverse = np.linalg.inv(to_image)
         located, centroids, sides = [], [], []
         for index, centre in enumerate(lattice):
@@ -640,12 +701,16 @@ def _refine(rgb: np.ndarray, to_image: np.ndarray):
             outline = _transform(to_image, centre + _square(0.5))
             low = np.clip(np.floor(outline.min(axis=0)).astype(int), 0, [width - 1, height - 1])
             high = np.clip(np.ceil(outline.max(axis=0)).astype(int), 0, [width - 1, height - 1])
-            ys, xs = np.mgrid[low[1]:high[1] + 1, low[0]:high[0] + 1]
+            ys, xs = np.mgrid[low[1] : high[1] + 1, low[0] : high[0] + 1]
             pixels = np.stack([xs, ys], axis=-1).astype(np.float64)
             cell = _transform(inverse, pixels)
             window = np.all(np.abs(cell - centre) <= 0.5, axis=-1)
-            weight = ((rgb[ys, xs] - body) @ direction / contrast ** 2
-                      * np.abs(_jacobian_determinant(inverse, pixels)))[window]
+            weight = (
+                (rgb[ys, xs] - body)
+                @ direction
+                / contrast**2
+                * np.abs(_jacobian_determinant(inverse, pixels))
+            )[window]
             area = weight.sum()
             if area <= 0:
                 continue
@@ -788,8 +853,9 @@ def _grey_lightness_error(parameters, codes: np.ndarray, lightness: np.ndarray) 
     return xyz_to_lab(grey[:, None] * WHITE_D50, white=WHITE_D50)[:, 0] - lightness
 
 
-def _grey_curve(measured: np.ndarray, reference_lab: np.ndarray, used: np.ndarray,
-                grey_patches: Sequence[int]) -> np.ndarray:
+def _grey_curve(
+    measured: np.ndarray, reference_lab: np.ndarray, used: np.ndarray, grey_patches: Sequence[int]
+) -> np.ndarray:
     """Per channel, the curve ``srgb_to_linear(a * max(v - b, 0) ** g)`` that best gives
     the unsaturated grey patches, in L*, the reference lightness as a neutral grey.
 
@@ -799,19 +865,26 @@ def _grey_curve(measured: np.ndarray, reference_lab: np.ndarray, used: np.ndarra
     """
     greys = [g for g in grey_patches if used[g]]
     if len(greys) < 3:
-        raise DataError(f"the grey-curve needs at least 3 unsaturated grey patches, got "
-                         f"{len(greys)} of {len(grey_patches)}")
+        raise DataError(
+            f"the grey-curve needs at least 3 unsaturated grey patches, got "
+            f"{len(greys)} of {len(grey_patches)}"
+        )
     target = reference_lab[greys, 0]
     curve = np.empty((3, _CURVE_CODES.size))
     for channel in range(3):
         values = measured[greys, channel]
         if np.ptp(values) <= 0:
-            raise DataError(f"the grey patches all measure {values[0]:.4g} in channel "
-                             f"{channel}; no tone curve can be fitted")
+            raise DataError(
+                f"the grey patches all measure {values[0]:.4g} in channel "
+                f"{channel}; no tone curve can be fitted"
+            )
         # From the plain sRGB decoding; the offset stays below the darkest grey.
         fit = scipy.optimize.least_squares(
-            _grey_lightness_error, x0=[1.0, min(0.0, values.min() - 1e-3), 1.0],
-            args=(values, target), bounds=([1e-3, -1.0, 0.1], [1e3, values.min() - 1e-6, 10.0]))
+            _grey_lightness_error,
+            x0=[1.0, min(0.0, values.min() - 1e-3), 1.0],
+            args=(values, target),
+            bounds=([1e-3, -1.0, 0.1], [1e3, values.min() - 1e-6, 10.0]),
+        )
         curve[channel] = _grey_response(fit.x, _CURVE_CODES)
     return curve
 
@@ -821,10 +894,17 @@ def _mean_delta_e(parameters, linear, reference_lab, white, shape) -> float:
     return float(delta_e_2000(linear_rgb_to_lab(corrected, white=white), reference_lab).mean())
 
 
-def fit_chart_correction(measured, reference_lab, *, linearization: str = "gamma",
-                         gamma: float = 2.2, model: str = "3x3", white=WHITE_D50,
-                         saturation: float = 0.98,
-                         grey_patches: Sequence[int] = GREY_PATCHES) -> ChartCorrection:
+def fit_chart_correction(
+    measured,
+    reference_lab,
+    *,
+    linearization: str = "gamma",
+    gamma: float = 2.2,
+    model: str = "3x3",
+    white=WHITE_D50,
+    saturation: float = 0.98,
+    grey_patches: Sequence[int] = GREY_PATCHES,
+) -> ChartCorrection:
     """Fit tone curves and a colour-correction matrix that take a chart's measured
     patches to its reference colours.
 
@@ -870,26 +950,32 @@ def fit_chart_correction(measured, reference_lab, *, linearization: str = "gamma
     measured = _colours(measured, "measured")
     reference_lab = _colours(reference_lab, "reference_lab")
     if measured.ndim != 2 or measured.shape != reference_lab.shape:
-        raise ValueError(f"measured and reference_lab must both have shape (N, 3), got "
-                         f"{measured.shape} and {reference_lab.shape}")
+        raise ValueError(
+            f"measured and reference_lab must both have shape (N, 3), got "
+            f"{measured.shape} and {reference_lab.shape}"
+        )
     if not np.all(np.isfinite(measured)) or measured.min() < 0 or measured.max() > 1:
         raise ValueError("measured must be display RGB in [0, 1] (8-bit codes divided by 255)")
     if not np.all(np.isfinite(reference_lab)):
         raise ValueError("reference_lab must be finite")
     if linearization not in _LINEARIZATIONS:
-        raise ValueError(f"linearization must be one of {', '.join(_LINEARIZATIONS)}, got "
-                         f"{linearization!r}")
+        raise ValueError(
+            f"linearization must be one of {', '.join(_LINEARIZATIONS)}, got {linearization!r}"
+        )
     if model not in _MODELS:
         raise ValueError(f"model must be one of {', '.join(_MODELS)}, got {model!r}")
     if linearization == "grey-curve" and any(not 0 <= g < len(measured) for g in grey_patches):
-        raise ValueError(f"grey_patches must index the {len(measured)} patches, got "
-                         f"{tuple(grey_patches)}")
+        raise ValueError(
+            f"grey_patches must index the {len(measured)} patches, got {tuple(grey_patches)}"
+        )
     white = _white(white)
     used = np.all(measured <= saturation, axis=1)
     rows = _MODELS[model]
     if used.sum() < rows:
-        raise DataError(f"only {used.sum()} of {len(measured)} patches are at most the "
-                         f"saturation {saturation}; a {model} matrix needs {rows}")
+        raise DataError(
+            f"only {used.sum()} of {len(measured)} patches are at most the "
+            f"saturation {saturation}; a {model} matrix needs {rows}"
+        )
     if linearization == "gamma":
         curve = np.tile(gamma_to_linear(_CURVE_CODES, gamma=gamma), (3, 1))
     elif linearization == "srgb":
@@ -900,9 +986,14 @@ def fit_chart_correction(measured, reference_lab, *, linearization: str = "gamma
     design = linear if rows == 3 else np.column_stack([linear, np.ones(len(linear))])
     target = lab_to_linear_rgb(reference_lab, white=white)
     start, *_ = np.linalg.lstsq(design[used], target[used], rcond=None)
-    fit = scipy.optimize.minimize(_mean_delta_e, start.ravel(), method="BFGS",
-                                  args=(linear[used], reference_lab[used], white, start.shape))
+    fit = scipy.optimize.minimize(
+        _mean_delta_e,
+        start.ravel(),
+        method="BFGS",
+        args=(linear[used], reference_lab[used], white, start.shape),
+    )
     matrix = fit.x.reshape(start.shape)
-    delta_e = delta_e_2000(linear_rgb_to_lab(_apply_matrix(linear, matrix), white=white),
-                           reference_lab)
+    delta_e = delta_e_2000(
+        linear_rgb_to_lab(_apply_matrix(linear, matrix), white=white), reference_lab
+    )
     return ChartCorrection(curve=curve, matrix=matrix, delta_e=delta_e, used=used)

@@ -8,11 +8,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from mvtools.color.lut import apply_lut, average_target, identity_lut, LUT_METHODS
+from mvtools.color.lut import LUT_METHODS, apply_lut, average_target, identity_lut
 from mvtools.color.space import rgb_to_yuv, upsample_chroma, yuv_to_rgb
 
-__all__ = ["SPACES", "TARGETS", "working_codes", "view_tables", "correct_planes",
-           "channel_names"]
+__all__ = ["SPACES", "TARGETS", "channel_names", "correct_planes", "view_tables", "working_codes"]
 
 SPACES = ("rgb", "yuv")
 TARGETS = ("reference", "average")
@@ -50,8 +49,9 @@ def working_codes(planes: Sequence[np.ndarray], *, bits: int, space: str) -> np.
     return np.stack(upsample_chroma(planes, method="nearest"), axis=-1)
 
 
-def correct_planes(planes: Sequence[np.ndarray], tables: np.ndarray, *, bits: int,
-                   space: str, chroma: str) -> list[np.ndarray]:
+def correct_planes(
+    planes: Sequence[np.ndarray], tables: np.ndarray, *, bits: int, space: str, chroma: str
+) -> list[np.ndarray]:
     """A frame with its tables applied, as planes of the same layout.
 
     In ``"yuv"`` every plane takes its own table at its own resolution; in ``"rgb"`` the
@@ -68,9 +68,14 @@ def correct_planes(planes: Sequence[np.ndarray], tables: np.ndarray, *, bits: in
     return list(rgb_to_yuv(corrected, chroma=chroma, bits=bits))
 
 
-def view_tables(samples: Sequence[tuple[np.ndarray, np.ndarray] | None], reference: int, *,
-                target: str = "reference", method: str = "correspondences",
-                levels: int = 256) -> list[np.ndarray]:
+def view_tables(
+    samples: Sequence[tuple[np.ndarray, np.ndarray] | None],
+    reference: int,
+    *,
+    target: str = "reference",
+    method: str = "correspondences",
+    levels: int = 256,
+) -> list[np.ndarray]:
     """The tables of every view.
 
     Parameters
@@ -101,6 +106,8 @@ def view_tables(samples: Sequence[tuple[np.ndarray, np.ndarray] | None], referen
         raise ValueError("samples must hold None at the reference view and pairs elsewhere")
     fit = LUT_METHODS[method]
     channels = next(pair[0].shape[1] for pair in samples if pair is not None)
-    tables = [identity_lut(channels, levels) if pair is None else fit(*pair, levels=levels)
-              for pair in samples]
+    tables = [
+        identity_lut(channels, levels) if pair is None else fit(*pair, levels=levels)
+        for pair in samples
+    ]
     return average_target(tables) if target == "average" else tables

@@ -17,10 +17,15 @@ from mvtools.geometry.camera import Camera
 from mvtools.geometry.projection import pixel_grid, reproject
 from mvtools.metrics import psnr
 
-__all__ = ["corresponding_samples", "warp_to_target", "warped_psnr", "disparity_samples",
-           "common_view",
-           "common_view_samples",
-           "overlap_samples"]
+__all__ = [
+    "common_view",
+    "common_view_samples",
+    "corresponding_samples",
+    "disparity_samples",
+    "overlap_samples",
+    "warp_to_target",
+    "warped_psnr",
+]
 
 
 def _smooth_depth(z: np.ndarray, tolerance: float) -> np.ndarray:
@@ -38,8 +43,9 @@ def _check_pair(view, view_z, target, target_z, tolerance, depth_type):
         if np.shape(z) != image.shape[:2]:
             raise ValueError(f"{name}_z has shape {np.shape(z)}, the {name} {image.shape[:2]}")
     if view.ndim != target.ndim or view.shape[2:] != target.shape[2:]:
-        raise ValueError(f"view and target must have the same channels, got {view.shape} "
-                         f"and {target.shape}")
+        raise ValueError(
+            f"view and target must have the same channels, got {view.shape} and {target.shape}"
+        )
     if not tolerance > 0:
         raise ValueError(f"tolerance must be positive, got {tolerance}")
     if depth_type != 0:
@@ -47,8 +53,9 @@ def _check_pair(view, view_z, target, target_z, tolerance, depth_type):
     return view, target
 
 
-def _visible_matches(view_shape, view_camera, view_z, target_shape, target_camera, target_z,
-                     tolerance):
+def _visible_matches(
+    view_shape, view_camera, view_z, target_shape, target_camera, target_z, tolerance
+):
     """Target pixels (flat indices) at smooth depths whose points ``view`` sees, and
     where in ``view`` they land (fractional ``u, v``)."""
     height, width = view_shape
@@ -62,15 +69,23 @@ def _visible_matches(view_shape, view_camera, view_z, target_shape, target_camer
         inside = (z2 > 0) & (column >= 0) & (column <= width - 1) & (row >= 0) & (row <= height - 1)
     column, row = column[inside].astype(np.intp), row[inside].astype(np.intp)
     seen = np.asarray(view_z, np.float64)[row, column]
-    visible = (_smooth_depth(view_z, tolerance)[row, column]
-               & (np.abs(seen - z2[inside]) <= tolerance * z2[inside]))
+    visible = _smooth_depth(view_z, tolerance)[row, column] & (
+        np.abs(seen - z2[inside]) <= tolerance * z2[inside]
+    )
     return trusted[inside][visible], u2[inside][visible], v2[inside][visible]
 
 
-def corresponding_samples(view: np.ndarray, view_camera: Camera, view_z: np.ndarray,
-                          target: np.ndarray, target_camera: Camera, target_z: np.ndarray, *,
-                          tolerance: float = 0.01, depth_type: int = 0
-                          ) -> tuple[np.ndarray, np.ndarray]:
+def corresponding_samples(
+    view: np.ndarray,
+    view_camera: Camera,
+    view_z: np.ndarray,
+    target: np.ndarray,
+    target_camera: Camera,
+    target_z: np.ndarray,
+    *,
+    tolerance: float = 0.01,
+    depth_type: int = 0,
+) -> tuple[np.ndarray, np.ndarray]:
     """Codes of ``view`` and ``target`` at the scene points both see.
 
     Every target pixel at a smooth depth is carried into ``view`` by the cameras; it
@@ -95,18 +110,24 @@ def corresponding_samples(view: np.ndarray, view_camera: Camera, view_z: np.ndar
     view_codes, target_codes : ndarray, shape (N, C)
     """
     view, target = _check_pair(view, view_z, target, target_z, tolerance, depth_type)
-    pixels, u, v = _visible_matches(view.shape[:2], view_camera, view_z, target.shape[:2],
-                                    target_camera, target_z, tolerance)
+    pixels, u, v = _visible_matches(
+        view.shape[:2], view_camera, view_z, target.shape[:2], target_camera, target_z, tolerance
+    )
     channels = 1 if view.ndim == 2 else view.shape[2]
     view_pixels = view[np.round(v).astype(np.intp), np.round(u).astype(np.intp)]
-    return (view_pixels.reshape(-1, channels),
-            target.reshape(-1, channels)[pixels])
+    return (view_pixels.reshape(-1, channels), target.reshape(-1, channels)[pixels])
 
 
-def warp_to_target(view: np.ndarray, view_camera: Camera, view_z: np.ndarray,
-                   target_shape: tuple[int, int], target_camera: Camera,
-                   target_z: np.ndarray, *, tolerance: float = 0.01
-                   ) -> tuple[np.ndarray, np.ndarray]:
+def warp_to_target(
+    view: np.ndarray,
+    view_camera: Camera,
+    view_z: np.ndarray,
+    target_shape: tuple[int, int],
+    target_camera: Camera,
+    target_z: np.ndarray,
+    *,
+    tolerance: float = 0.01,
+) -> tuple[np.ndarray, np.ndarray]:
     """``view`` as the target camera sees it, where the target sees what ``view`` sees.
 
     The target pixels of :func:`corresponding_samples` take ``view`` interpolated
@@ -130,23 +151,36 @@ def warp_to_target(view: np.ndarray, view_camera: Camera, view_z: np.ndarray,
     view = np.asarray(view)
     if np.shape(view_z) != view.shape[:2] or np.shape(target_z) != tuple(target_shape):
         raise ValueError("depth maps must have their pictures' shapes")
-    pixels, u, v = _visible_matches(view.shape[:2], view_camera, view_z, tuple(target_shape),
-                                    target_camera, target_z, tolerance)
+    pixels, u, v = _visible_matches(
+        view.shape[:2], view_camera, view_z, tuple(target_shape), target_camera, target_z, tolerance
+    )
     channels = 1 if view.ndim == 2 else view.shape[2]
     warped = np.full((int(np.prod(target_shape)), channels), np.nan, np.float32)
     if len(pixels):  # OpenCV refuses empty maps
-        warped[pixels] = cv2.remap(np.asarray(view, np.float32), u.astype(np.float32)[:, None],
-                                   v.astype(np.float32)[:, None], interpolation=cv2.INTER_LINEAR,
-                                   borderMode=cv2.BORDER_REPLICATE).reshape(-1, channels)
+        warped[pixels] = cv2.remap(
+            np.asarray(view, np.float32),
+            u.astype(np.float32)[:, None],
+            v.astype(np.float32)[:, None],
+            interpolation=cv2.INTER_LINEAR,
+            borderMode=cv2.BORDER_REPLICATE,
+        ).reshape(-1, channels)
     seen = np.zeros(int(np.prod(target_shape)), bool)
     seen[pixels] = True
     shape = tuple(target_shape) + ((channels,) if view.ndim == 3 else ())
     return warped.reshape(shape), seen.reshape(target_shape)
 
 
-def warped_psnr(view: np.ndarray, view_camera: Camera, view_z: np.ndarray,
-                target: np.ndarray, target_camera: Camera, target_z: np.ndarray, *,
-                max_value: float, tolerance: float = 0.01) -> float:
+def warped_psnr(
+    view: np.ndarray,
+    view_camera: Camera,
+    view_z: np.ndarray,
+    target: np.ndarray,
+    target_camera: Camera,
+    target_z: np.ndarray,
+    *,
+    max_value: float,
+    tolerance: float = 0.01,
+) -> float:
     """PSNR (dB) of a plane of ``view`` warped into the target camera
     (:func:`warp_to_target`) against ``target``, over the pixels where the target sees
     what ``view`` sees: how far the colours of two views agree, resampling aside.
@@ -167,16 +201,24 @@ def warped_psnr(view: np.ndarray, view_camera: Camera, view_z: np.ndarray,
         No target pixel sees what ``view`` sees.
     """
     target = np.asarray(target)
-    warped, seen = warp_to_target(view, view_camera, view_z, target.shape, target_camera,
-                                  target_z, tolerance=tolerance)
+    warped, seen = warp_to_target(
+        view, view_camera, view_z, target.shape, target_camera, target_z, tolerance=tolerance
+    )
     if not seen.any():
-        raise ValueError(f"camera {target_camera.name!r} sees none of the points of camera "
-                         f"{view_camera.name!r} at the depths given")
+        raise ValueError(
+            f"camera {target_camera.name!r} sees none of the points of camera "
+            f"{view_camera.name!r} at the depths given"
+        )
     return psnr(target, np.nan_to_num(warped), max_value=max_value, mask=seen)
 
 
-def disparity_samples(view: np.ndarray, target: np.ndarray, target_disparity: np.ndarray, *,
-                      view_is_right: bool = True) -> tuple[np.ndarray, np.ndarray]:
+def disparity_samples(
+    view: np.ndarray,
+    target: np.ndarray,
+    target_disparity: np.ndarray,
+    *,
+    view_is_right: bool = True,
+) -> tuple[np.ndarray, np.ndarray]:
     """Codes of the two views of a rectified pair at the pixels a disparity map pairs.
 
     Parameters
@@ -195,8 +237,10 @@ def disparity_samples(view: np.ndarray, target: np.ndarray, target_disparity: np
     view, target = np.asarray(view), np.asarray(target)
     disparity = np.asarray(target_disparity, dtype=np.float32)
     if view.shape != target.shape or disparity.shape != target.shape[:2]:
-        raise ValueError(f"view {view.shape}, target {target.shape} and disparity "
-                         f"{disparity.shape} must share one picture size")
+        raise ValueError(
+            f"view {view.shape}, target {target.shape} and disparity "
+            f"{disparity.shape} must share one picture size"
+        )
     known = np.isfinite(disparity) & (disparity >= 0)
     filled = np.where(known, disparity, 0).astype(np.float32)
     kernel = np.ones((3, 3), np.uint8)
@@ -206,8 +250,10 @@ def disparity_samples(view: np.ndarray, target: np.ndarray, target_disparity: np
     other = np.round(columns + shift * disparity[rows, columns]).astype(np.intp)
     inside = (other >= 0) & (other < view.shape[1])
     channels = 1 if view.ndim == 2 else view.shape[2]
-    return (view[rows[inside], other[inside]].reshape(-1, channels),
-            target[rows[inside], columns[inside]].reshape(-1, channels))
+    return (
+        view[rows[inside], other[inside]].reshape(-1, channels),
+        target[rows[inside], columns[inside]].reshape(-1, channels),
+    )
 
 
 def common_view(camera: Camera, other: Camera, shape: tuple[int, int], z: float) -> np.ndarray:
@@ -239,9 +285,14 @@ def common_view(camera: Camera, other: Camera, shape: tuple[int, int], z: float)
         return (z2 > 0) & (u2 >= -0.5) & (u2 <= width - 0.5) & (v2 >= -0.5) & (v2 <= height - 0.5)
 
 
-def common_view_samples(view: np.ndarray, view_camera: Camera, target: np.ndarray,
-                        target_camera: Camera, *, depth_range: tuple[float, float]
-                        ) -> tuple[np.ndarray, np.ndarray]:
+def common_view_samples(
+    view: np.ndarray,
+    view_camera: Camera,
+    target: np.ndarray,
+    target_camera: Camera,
+    *,
+    depth_range: tuple[float, float],
+) -> tuple[np.ndarray, np.ndarray]:
     """Samples of two views over the field of view they share, when no depth map tells
     where each point is: the pixels of ``view`` that ``target_camera`` sees and those of
     ``target`` that ``view_camera`` sees, for scene points at the harmonic mean of Znear

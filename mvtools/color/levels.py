@@ -17,7 +17,9 @@ def _dtype(bits: int) -> np.dtype:
     return np.dtype(np.uint8 if bits == 8 else np.uint16)
 
 
-def requantize(plane: np.ndarray, from_bits: int, to_bits: int, *, full_scale: bool = False) -> np.ndarray:
+def requantize(
+    plane: np.ndarray, from_bits: int, to_bits: int, *, full_scale: bool = False
+) -> np.ndarray:
     """Change the bit depth of integer samples.
 
     Parameters
@@ -50,14 +52,19 @@ def requantize(plane: np.ndarray, from_bits: int, to_bits: int, *, full_scale: b
         if not 8 <= bits <= 16:
             raise ValueError(f"bit depths must be 8..16, got {bits}")
     plane = np.asarray(plane)
-    top = 2 ** from_bits - 1
-    if plane.size and plane.dtype.kind in "iu" and np.iinfo(plane.dtype).max > top \
-            and int(plane.max()) > top:
-        raise ValueError(f"sample value {int(plane.max())} is above the {from_bits}-bit "
-                         f"maximum {top}")
+    top = 2**from_bits - 1
+    if (
+        plane.size
+        and plane.dtype.kind in "iu"
+        and np.iinfo(plane.dtype).max > top
+        and int(plane.max()) > top
+    ):
+        raise ValueError(
+            f"sample value {int(plane.max())} is above the {from_bits}-bit maximum {top}"
+        )
     if full_scale:
-        values = plane * ((2 ** to_bits - 1) / top)
-        return np.clip(np.floor(values + 0.5), 0, 2 ** to_bits - 1).astype(_dtype(to_bits))
+        values = plane * ((2**to_bits - 1) / top)
+        return np.clip(np.floor(values + 0.5), 0, 2**to_bits - 1).astype(_dtype(to_bits))
     values = plane.astype(np.int64)
     if to_bits >= from_bits:
         return (values << (to_bits - from_bits)).astype(_dtype(to_bits))
@@ -88,14 +95,15 @@ def _dither(shift: int) -> np.ndarray:
     matrices = [checkerboard(0)]
     for extra in (1 - stripes(0), checkerboard(1), stripes(1), 1 - checkerboard(2), stripes(2)):
         matrices.append(2 * matrices[-1] + extra)
-    matrices += [matrices[5], 2 * matrices[5]]   # 7 bits reuse the 6-bit one, 8 double it
+    matrices += [matrices[5], 2 * matrices[5]]  # 7 bits reuse the 6-bit one, 8 double it
     matrix = matrices[shift - 1].astype(np.int64)
     matrix.flags.writeable = False
     return matrix
 
 
-def convert_planes(planes: Sequence[np.ndarray], *, bits: int, to_chroma: str, to_bits: int,
-                   depth: bool = False) -> tuple[np.ndarray, ...]:
+def convert_planes(
+    planes: Sequence[np.ndarray], *, bits: int, to_chroma: str, to_bits: int, depth: bool = False
+) -> tuple[np.ndarray, ...]:
     """Convert a frame to another chroma layout and bit depth.
 
     Parameters
@@ -140,7 +148,9 @@ def convert_planes(planes: Sequence[np.ndarray], *, bits: int, to_chroma: str, t
 def _chroma_shape(luma_shape: tuple[int, int], chroma: str) -> tuple[int, int]:
     height, width = luma_shape
     half_w = (width + 1) // 2
-    return {"444": (height, width), "422": (height, half_w), "420": ((height + 1) // 2, half_w)}[chroma]
+    return {"444": (height, width), "422": (height, half_w), "420": ((height + 1) // 2, half_w)}[
+        chroma
+    ]
 
 
 def depth_preview(values: np.ndarray, *, bits: int) -> np.ndarray:

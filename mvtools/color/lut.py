@@ -11,8 +11,16 @@ from __future__ import annotations
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
-__all__ = ["fit_lut", "histogram_lut", "invert_lut", "average_target", "compose_luts",
-           "apply_lut", "identity_lut", "LUT_METHODS"]
+__all__ = [
+    "LUT_METHODS",
+    "apply_lut",
+    "average_target",
+    "compose_luts",
+    "fit_lut",
+    "histogram_lut",
+    "identity_lut",
+    "invert_lut",
+]
 
 # Fewest samples of a code for its own estimate; sparser codes are interpolated from
 # their neighbours (one stray match must not bend the table).
@@ -30,12 +38,15 @@ def _check_samples(source, target, levels):
     if source.ndim == 1:
         source, target = source[:, None], target[:, None]
     if source.ndim != 2 or source.shape != target.shape:
-        raise ValueError(f"source and target must be (N, C) arrays of one shape, got "
-                         f"{source.shape} and {target.shape}")
+        raise ValueError(
+            f"source and target must be (N, C) arrays of one shape, got "
+            f"{source.shape} and {target.shape}"
+        )
     if levels < 2:
         raise ValueError(f"levels must be at least 2, got {levels}")
-    if source.size and (source.min() < 0 or source.max() >= levels
-                        or not np.issubdtype(source.dtype, np.integer)):
+    if source.size and (
+        source.min() < 0 or source.max() >= levels or not np.issubdtype(source.dtype, np.integer)
+    ):
         raise ValueError(f"source must hold integer codes 0..{levels - 1}")
     return source, target
 
@@ -56,8 +67,9 @@ def _pool_adjacent_violators(values: np.ndarray, weights: np.ndarray) -> np.ndar
     return np.repeat(means, counts)
 
 
-def _table_from_points(codes: np.ndarray, values: np.ndarray, weights: np.ndarray,
-                       levels: int, smoothing: float) -> np.ndarray:
+def _table_from_points(
+    codes: np.ndarray, values: np.ndarray, weights: np.ndarray, levels: int, smoothing: float
+) -> np.ndarray:
     """A monotonic, smooth table through weighted (code, value) points.
 
     Codes between the points are interpolated; beyond the outermost points the table
@@ -67,15 +79,16 @@ def _table_from_points(codes: np.ndarray, values: np.ndarray, weights: np.ndarra
         raise ValueError("no samples to estimate the table from")
     monotonic = _pool_adjacent_violators(values, weights)
     if codes.size == 1:
-        return np.clip(np.full(levels, monotonic[0]) + np.arange(levels) - codes[0],
-                       0, levels - 1)
+        return np.clip(np.full(levels, monotonic[0]) + np.arange(levels) - codes[0], 0, levels - 1)
     grid = np.arange(levels, dtype=np.float64)
     table = np.interp(grid, codes, monotonic)
     # Beyond the data the table goes on with the slope of the outer tenth of the samples,
     # fitted with their counts as weights: the last few codes are sparse and noisy.
     share = np.cumsum(weights) / weights.sum()
-    for end, beyond, outer in ((codes[0], grid < codes[0], share <= 0.1),
-                               (codes[-1], grid > codes[-1], share >= 0.9)):
+    for end, beyond, outer in (
+        (codes[0], grid < codes[0], share <= 0.1),
+        (codes[-1], grid > codes[-1], share >= 0.9),
+    ):
         outer[codes == end] = True
         if outer.sum() > 1 and np.ptp(codes[outer]) > 0:
             slope = np.polyfit(codes[outer], monotonic[outer], 1, w=np.sqrt(weights[outer]))[0]
@@ -120,10 +133,21 @@ def fit_lut(source, target, *, levels: int = 256, smoothing: float = 1.5) -> np.
         starts = np.flatnonzero(np.r_[True, codes[1:] != codes[:-1]])
         counts = np.diff(np.r_[starts, codes.size])
         keep = counts >= _MIN_SAMPLES
-        medians = np.array([np.median(values[start:start + count])
-                            for start, count in zip(starts[keep], counts[keep])])
-        tables.append(_table_from_points(codes[starts[keep]].astype(np.float64), medians,
-                                         counts[keep].astype(np.float64), levels, smoothing))
+        medians = np.array(
+            [
+                np.median(values[start : start + count])
+                for start, count in zip(starts[keep], counts[keep])
+            ]
+        )
+        tables.append(
+            _table_from_points(
+                codes[starts[keep]].astype(np.float64),
+                medians,
+                counts[keep].astype(np.float64),
+                levels,
+                smoothing,
+            )
+        )
     return np.array(tables)
 
 
@@ -153,8 +177,10 @@ def histogram_lut(source, target, *, levels: int = 256, smoothing: float = 1.5) 
     if source.ndim == 1:
         source, target = source[:, None], target[:, None]
     if source.ndim != 2 or target.ndim != 2 or source.shape[1] != target.shape[1]:
-        raise ValueError(f"source and target must be (N, C) and (M, C) arrays, got "
-                         f"{source.shape} and {target.shape}")
+        raise ValueError(
+            f"source and target must be (N, C) and (M, C) arrays, got "
+            f"{source.shape} and {target.shape}"
+        )
     _check_samples(source, source, levels)
     _check_samples(target, target, levels)
     tables = []
@@ -166,10 +192,18 @@ def histogram_lut(source, target, *, levels: int = 256, smoothing: float = 1.5) 
         fractions = (np.cumsum(source_counts) - source_counts / 2.0) / source_counts.sum()
         target_fractions = (np.cumsum(target_counts) - target_counts / 2.0) / target_counts.sum()
         target_codes = np.flatnonzero(target_counts > 0)
-        values = np.interp(fractions[present], target_fractions[target_codes],
-                           target_codes.astype(np.float64))
-        tables.append(_table_from_points(np.flatnonzero(present).astype(np.float64), values,
-                                         source_counts[present], levels, smoothing))
+        values = np.interp(
+            fractions[present], target_fractions[target_codes], target_codes.astype(np.float64)
+        )
+        tables.append(
+            _table_from_points(
+                np.flatnonzero(present).astype(np.float64),
+                values,
+                source_counts[present],
+                levels,
+                smoothing,
+            )
+        )
     return np.array(tables)
 
 
@@ -200,8 +234,9 @@ def compose_luts(outer: np.ndarray, inner: np.ndarray) -> np.ndarray:
     if outer.shape != inner.shape:
         raise ValueError(f"tables of shapes {outer.shape} and {inner.shape} do not compose")
     codes = np.arange(outer.shape[1], dtype=np.float64)
-    return np.array([np.interp(row_inner, codes, row_outer)
-                     for row_outer, row_inner in zip(outer, inner)])
+    return np.array(
+        [np.interp(row_inner, codes, row_outer) for row_outer, row_inner in zip(outer, inner)]
+    )
 
 
 def average_target(tables: list[np.ndarray]) -> list[np.ndarray]:

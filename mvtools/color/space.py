@@ -25,12 +25,18 @@ uint16 (more bits), as :mod:`mvtools.io.yuv` reads and writes them.
 
 from __future__ import annotations
 
-from typing import Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
-__all__ = ["MATRICES", "rgb_to_yuv", "yuv_to_rgb", "upsample_chroma", "downsample_chroma",
-           "rgb_to_yuv_matrix"]
+__all__ = [
+    "MATRICES",
+    "downsample_chroma",
+    "rgb_to_yuv",
+    "rgb_to_yuv_matrix",
+    "upsample_chroma",
+    "yuv_to_rgb",
+]
 
 # Luma weights (Kr, Kb) of each standard; Kg = 1 - Kr - Kb.
 MATRICES = {"bt601": (0.299, 0.114), "bt709": (0.2126, 0.0722), "bt2020": (0.2627, 0.0593)}
@@ -49,11 +55,13 @@ def rgb_to_yuv_matrix(matrix: str = "bt601") -> np.ndarray:
         raise ValueError(f"unknown colour matrix {matrix!r}; use one of {', '.join(MATRICES)}")
     kr, kb = MATRICES[matrix]
     kg = 1.0 - kr - kb
-    return np.array([
-        [kr, kg, kb],
-        [-0.5 * kr / (1 - kb), -0.5 * kg / (1 - kb), 0.5],
-        [0.5, -0.5 * kg / (1 - kr), -0.5 * kb / (1 - kr)],
-    ])
+    return np.array(
+        [
+            [kr, kg, kb],
+            [-0.5 * kr / (1 - kb), -0.5 * kg / (1 - kb), 0.5],
+            [0.5, -0.5 * kg / (1 - kr), -0.5 * kb / (1 - kr)],
+        ]
+    )
 
 
 def _check_bits(bits: int) -> None:
@@ -64,7 +72,7 @@ def _check_bits(bits: int) -> None:
 def _quantisation(bits: int, full_range: bool) -> tuple[float, float, float, float]:
     """(luma scale, luma offset, chroma scale, chroma offset) from normalised to codes."""
     if full_range:
-        top = 2.0 ** bits - 1
+        top = 2.0**bits - 1
         return top, 0.0, top, 2.0 ** (bits - 1)
     step = 2.0 ** (bits - 8)
     return 219 * step, 16 * step, 224 * step, 128 * step
@@ -73,7 +81,7 @@ def _quantisation(bits: int, full_range: bool) -> tuple[float, float, float, flo
 def _to_codes(values: np.ndarray, bits: int) -> np.ndarray:
     """Round to nearest (halves up, like ``(int)(x + 0.5)``), clip, uint8/uint16."""
     dtype = np.uint8 if bits == 8 else np.uint16
-    return np.clip(np.floor(values + 0.5), 0, 2 ** bits - 1).astype(dtype)
+    return np.clip(np.floor(values + 0.5), 0, 2**bits - 1).astype(dtype)
 
 
 def _subsampling(luma_shape: tuple[int, int], chroma_shape: tuple[int, int]) -> tuple[bool, bool]:
@@ -85,8 +93,10 @@ def _subsampling(luma_shape: tuple[int, int], chroma_shape: tuple[int, int]) -> 
         elif part == -(-full // 2):
             halved.append(True)
         else:
-            raise ValueError(f"chroma plane shape {chroma_shape} does not match luma {luma_shape} "
-                             f"(expected full or ceil-half size along axis {axis})")
+            raise ValueError(
+                f"chroma plane shape {chroma_shape} does not match luma {luma_shape} "
+                f"(expected full or ceil-half size along axis {axis})"
+            )
     return halved[0], halved[1]
 
 
@@ -120,8 +130,9 @@ def downsample_chroma(plane: np.ndarray, *, chroma: str = "420") -> np.ndarray:
     values = 0.5 * (values[:, 0::2] + values[:, 1::2])
     if plane.dtype.kind == "f":
         return values
-    return np.clip(np.floor(values + 0.5), np.iinfo(plane.dtype).min,
-                   np.iinfo(plane.dtype).max).astype(plane.dtype)
+    return np.clip(
+        np.floor(values + 0.5), np.iinfo(plane.dtype).min, np.iinfo(plane.dtype).max
+    ).astype(plane.dtype)
 
 
 def _upsample_axis(values: np.ndarray, size: int, axis: int, method: str) -> np.ndarray:
@@ -142,7 +153,9 @@ def _upsample_axis(values: np.ndarray, size: int, axis: int, method: str) -> np.
     return below * (1 - weight) + above * weight
 
 
-def upsample_chroma(planes: Sequence[np.ndarray], *, method: str = "bilinear") -> tuple[np.ndarray, ...]:
+def upsample_chroma(
+    planes: Sequence[np.ndarray], *, method: str = "bilinear"
+) -> tuple[np.ndarray, ...]:
     """Bring 4:2:0 or 4:2:2 chroma to the luma size.
 
     Parameters
@@ -179,13 +192,23 @@ def upsample_chroma(planes: Sequence[np.ndarray], *, method: str = "bilinear") -
         if plane.dtype.kind == "f":
             result.append(values)
         else:
-            result.append(np.clip(np.floor(values + 0.5), np.iinfo(plane.dtype).min,
-                                  np.iinfo(plane.dtype).max).astype(plane.dtype))
+            result.append(
+                np.clip(
+                    np.floor(values + 0.5), np.iinfo(plane.dtype).min, np.iinfo(plane.dtype).max
+                ).astype(plane.dtype)
+            )
     return tuple(result)
 
 
-def rgb_to_yuv(rgb: np.ndarray, *, chroma: str = "420", bits: int = 8, matrix: str = "bt601",
-               full_range: bool = False, rgb_bits: int | None = None) -> tuple[np.ndarray, ...]:
+def rgb_to_yuv(
+    rgb: np.ndarray,
+    *,
+    chroma: str = "420",
+    bits: int = 8,
+    matrix: str = "bt601",
+    full_range: bool = False,
+    rgb_bits: int | None = None,
+) -> tuple[np.ndarray, ...]:
     """Convert an RGB image to YUV planes.
 
     Parameters
@@ -220,7 +243,7 @@ def rgb_to_yuv(rgb: np.ndarray, *, chroma: str = "420", bits: int = 8, matrix: s
     elif rgb.dtype.kind in "ui":
         rgb_bits = rgb_bits if rgb_bits is not None else (8 if rgb.dtype == np.uint8 else bits)
         _check_bits(rgb_bits)
-        normalised = rgb.astype(np.float64) / (2 ** rgb_bits - 1)
+        normalised = rgb.astype(np.float64) / (2**rgb_bits - 1)
     else:
         raise ValueError(f"rgb must be an integer or float array, got dtype {rgb.dtype}")
     ypbpr = normalised @ rgb_to_yuv_matrix(matrix).T
@@ -237,8 +260,14 @@ def rgb_to_yuv(rgb: np.ndarray, *, chroma: str = "420", bits: int = 8, matrix: s
     return tuple(planes)
 
 
-def yuv_to_rgb(planes: Sequence[np.ndarray], *, bits: int = 8, matrix: str = "bt601",
-               full_range: bool = False, upsampling: str = "bilinear") -> np.ndarray:
+def yuv_to_rgb(
+    planes: Sequence[np.ndarray],
+    *,
+    bits: int = 8,
+    matrix: str = "bt601",
+    full_range: bool = False,
+    upsampling: str = "bilinear",
+) -> np.ndarray:
     """Convert YUV planes to an RGB image.
 
     Parameters
@@ -264,14 +293,15 @@ def yuv_to_rgb(planes: Sequence[np.ndarray], *, bits: int = 8, matrix: str = "bt
     y_scale, y_offset, c_scale, c_offset = _quantisation(bits, full_range)
     luma = np.asarray(planes[0])
     dtype = luma.dtype if luma.dtype.kind == "u" else np.dtype(np.uint8 if bits == 8 else np.uint16)
-    if np.iinfo(dtype).max < 2 ** bits - 1:
+    if np.iinfo(dtype).max < 2**bits - 1:
         raise ValueError(f"{bits}-bit samples do not fit the planes' dtype {dtype}")
     ypbpr = np.zeros(luma.shape + (3,))
     ypbpr[..., 0] = (luma.astype(np.float64) - y_offset) / y_scale
     if len(planes) == 3:
         _, u, v = upsample_chroma(
-            [luma] + [np.asarray(p, dtype=np.float64) for p in planes[1:]], method=upsampling)
+            [luma] + [np.asarray(p, dtype=np.float64) for p in planes[1:]], method=upsampling
+        )
         ypbpr[..., 1] = (u - c_offset) / c_scale
         ypbpr[..., 2] = (v - c_offset) / c_scale
     normalised = ypbpr @ np.linalg.inv(rgb_to_yuv_matrix(matrix)).T
-    return _to_codes(normalised * (2 ** bits - 1), bits).astype(dtype, copy=False)
+    return _to_codes(normalised * (2**bits - 1), bits).astype(dtype, copy=False)

@@ -12,7 +12,7 @@ Arrays in, arrays out: the ``estimate-depth`` program reads the views and writes
 
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -25,24 +25,36 @@ from mvtools.depth.refine import clean_up, left_right_consistent, refine_subpixe
 from mvtools.depth.segment import plane_segments, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import sgm_volume, winner_takes_all
 
-__all__ = ["estimate_disparity", "METHODS", "PAIR_METHODS", "COSTS"]
+__all__ = ["COSTS", "METHODS", "PAIR_METHODS", "estimate_disparity"]
 
 #: name -> ``method(cost, guide) -> volume``: ``cost`` of shape (H, W, D) float32, ``guide``
 #: the view the costs belong to, (H, W, 3) float32 RGB; the returned (H, W, D) float32
 #: volume is minimal at each pixel's chosen level.
 METHODS: dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]] = {
-    "sgm": sgm_volume, "local": local_volume, "graphcut": graphcut_volume, "bp": bp_volume}
+    "sgm": sgm_volume,
+    "local": local_volume,
+    "graphcut": graphcut_volume,
+    "bp": bp_volume,
+}
 
 #: methods of :func:`estimate_disparity`: those of :data:`METHODS` and PatchMatch stereo,
 #: which optimises disparity planes rather than a cost volume.
 PAIR_METHODS: tuple[str, ...] = (*METHODS, "patchmatch")
 
 
-def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: int,
-                       min_disparity: int = 0, method: str = "bp",
-                       cost: str = "ad-census", segment_planes: bool = True,
-                       segmentation: bool = False, subpixel: bool = False,
-                       view: str = "left") -> np.ndarray:
+def estimate_disparity(
+    left: np.ndarray,
+    right: np.ndarray,
+    *,
+    max_disparity: int,
+    min_disparity: int = 0,
+    method: str = "bp",
+    cost: str = "ad-census",
+    segment_planes: bool = True,
+    segmentation: bool = False,
+    subpixel: bool = False,
+    view: str = "left",
+) -> np.ndarray:
     """Disparity of the left view of a rectified pair.
 
     Matching costs (AD-census by default), the method's optimisation, sub-pixel
@@ -148,34 +160,46 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
     hold quarter pixels.
     """
     if method not in PAIR_METHODS:
-        raise ValueError(f"{method!r} method is invalid, it must be one of "
-                         f"{sorted(PAIR_METHODS)}")
+        raise ValueError(f"{method!r} method is invalid, it must be one of {sorted(PAIR_METHODS)}")
     if cost not in COSTS:
         raise ValueError(f"{cost!r} cost is invalid, it must be one of {sorted(COSTS)}")
     if view not in ("left", "right"):
         raise ValueError(f"view must be 'left' or 'right', got {view!r}")
     if view == "right":
         mirrored = [np.ascontiguousarray(np.asarray(picture)[:, ::-1]) for picture in (right, left)]
-        return np.ascontiguousarray(estimate_disparity(
-            *mirrored, max_disparity=max_disparity, min_disparity=min_disparity, method=method,
-            cost=cost, segment_planes=segment_planes, segmentation=segmentation,
-            subpixel=subpixel)[:, ::-1])
-    left, right = check_pair(left, right, min_disparity=min_disparity,
-                             max_disparity=max_disparity)
+        return np.ascontiguousarray(
+            estimate_disparity(
+                *mirrored,
+                max_disparity=max_disparity,
+                min_disparity=min_disparity,
+                method=method,
+                cost=cost,
+                segment_planes=segment_planes,
+                segmentation=segmentation,
+                subpixel=subpixel,
+            )[:, ::-1]
+        )
+    left, right = check_pair(left, right, min_disparity=min_disparity, max_disparity=max_disparity)
     levels = max_disparity - min_disparity + 1
     costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
     volume = METHODS["sgm" if method == "patchmatch" else method](costs, _rgb(left))
     disparity_left = winner_takes_all(volume) + min_disparity
-    disparity_right = winner_takes_all(volume, right_view=True,
-                                       min_disparity=min_disparity) + min_disparity
+    disparity_right = (
+        winner_takes_all(volume, right_view=True, min_disparity=min_disparity) + min_disparity
+    )
     if method == "patchmatch":
-        planes = patchmatch_planes(left, right, min_disparity=min_disparity,
-                                   max_disparity=max_disparity,
-                                   initial=(disparity_left, disparity_right))
+        planes = patchmatch_planes(
+            left,
+            right,
+            min_disparity=min_disparity,
+            max_disparity=max_disparity,
+            initial=(disparity_left, disparity_right),
+        )
         disparity_left, disparity_right = (plane_disparity(view) for view in planes)
     elif subpixel:
-        disparity_left = refine_subpixel(disparity_left,
-                                         *(_rgb(view).mean(axis=2) for view in (left, right)))
+        disparity_left = refine_subpixel(
+            disparity_left, *(_rgb(view).mean(axis=2) for view in (left, right))
+        )
     if segment_planes and not subpixel:
         # integer levels in both views, as the segment planes refine both
         disparity_left, disparity_right = np.rint(disparity_left), np.rint(disparity_right)
@@ -187,15 +211,28 @@ def estimate_disparity(left: np.ndarray, right: np.ndarray, *, max_disparity: in
         # the left one of the mirrored, swapped pair.
         mirrored = [np.ascontiguousarray(view[:, ::-1]) for view in (right, left)]
         disparity_left, disparity_right = (
-            _on_segment_planes(disparity_left, disparity_right, left, segments, costs,
-                               min_disparity=min_disparity, subpixel=subpixel),
             _on_segment_planes(
-                disparity_right[:, ::-1], disparity_left[:, ::-1], mirrored[0],
+                disparity_left,
+                disparity_right,
+                left,
+                segments,
+                costs,
+                min_disparity=min_disparity,
+                subpixel=subpixel,
+            ),
+            _on_segment_planes(
+                disparity_right[:, ::-1],
+                disparity_left[:, ::-1],
+                mirrored[0],
                 plane_segments(mirrored[0]),
                 COSTS[cost](*mirrored, min_disparity=min_disparity, levels=levels),
-                min_disparity=min_disparity, subpixel=subpixel)[:, ::-1])
-    return clean_up(disparity_left, disparity_right, left,
-                    segments=segments if segmentation else None)
+                min_disparity=min_disparity,
+                subpixel=subpixel,
+            )[:, ::-1],
+        )
+    return clean_up(
+        disparity_left, disparity_right, left, segments=segments if segmentation else None
+    )
 
 
 def _on_segment_planes(disparity, other, view, segments, cost, *, min_disparity, subpixel):
@@ -204,10 +241,10 @@ def _on_segment_planes(disparity, other, view, segments, cost, *, min_disparity,
     the other view's disparities ``other`` confirm."""
     disparity = np.ascontiguousarray(disparity, np.float32)
     valid = left_right_consistent(disparity, np.ascontiguousarray(other, np.float32))
-    disparity, valid = select_segment_planes(disparity, valid, segments, cost, view,
-                                             min_disparity=min_disparity)
-    disparity = trim_fattening(disparity, valid, segments, cost, view,
-                               min_disparity=min_disparity)
+    disparity, valid = select_segment_planes(
+        disparity, valid, segments, cost, view, min_disparity=min_disparity
+    )
+    disparity = trim_fattening(disparity, valid, segments, cost, view, min_disparity=min_disparity)
     return disparity if subpixel else np.rint(disparity)
 
 

@@ -11,7 +11,7 @@ from numba import njit, prange
 
 from mvtools.depth.graphcut import smoothness_weights
 
-__all__ = ["bp_volume", "belief_propagation"]
+__all__ = ["belief_propagation", "bp_volume"]
 
 # Incoming-message slots: the message a pixel received from its neighbour above,
 # below, on the left and on the right.
@@ -48,20 +48,45 @@ def _iterate(data, right, down, messages, truncation, iterations):
             total = np.empty(levels, np.float32)
             for x in range((y + iteration) % 2, cols, 2):
                 for d in range(levels):
-                    total[d] = (data[y, x, d] + messages[0, y, x, d] + messages[1, y, x, d]
-                                + messages[2, y, x, d] + messages[3, y, x, d])
+                    total[d] = (
+                        data[y, x, d]
+                        + messages[0, y, x, d]
+                        + messages[1, y, x, d]
+                        + messages[2, y, x, d]
+                        + messages[3, y, x, d]
+                    )
                 if y > 0:
-                    _send(total, messages[_FROM_UP, y, x], down[y - 1, x], truncation,
-                          messages[_FROM_DOWN, y - 1, x])
+                    _send(
+                        total,
+                        messages[_FROM_UP, y, x],
+                        down[y - 1, x],
+                        truncation,
+                        messages[_FROM_DOWN, y - 1, x],
+                    )
                 if y < rows - 1:
-                    _send(total, messages[_FROM_DOWN, y, x], down[y, x], truncation,
-                          messages[_FROM_UP, y + 1, x])
+                    _send(
+                        total,
+                        messages[_FROM_DOWN, y, x],
+                        down[y, x],
+                        truncation,
+                        messages[_FROM_UP, y + 1, x],
+                    )
                 if x > 0:
-                    _send(total, messages[_FROM_LEFT, y, x], right[y, x - 1], truncation,
-                          messages[_FROM_RIGHT, y, x - 1])
+                    _send(
+                        total,
+                        messages[_FROM_LEFT, y, x],
+                        right[y, x - 1],
+                        truncation,
+                        messages[_FROM_RIGHT, y, x - 1],
+                    )
                 if x < cols - 1:
-                    _send(total, messages[_FROM_RIGHT, y, x], right[y, x], truncation,
-                          messages[_FROM_LEFT, y, x + 1])
+                    _send(
+                        total,
+                        messages[_FROM_RIGHT, y, x],
+                        right[y, x],
+                        truncation,
+                        messages[_FROM_LEFT, y, x + 1],
+                    )
 
 
 @njit(cache=True, nogil=True, parallel=True)
@@ -71,9 +96,13 @@ def _beliefs(data, messages):
     for y in prange(rows):
         for x in range(cols):
             for d in range(levels):
-                beliefs[y, x, d] = (data[y, x, d] + messages[0, y, x, d]
-                                    + messages[1, y, x, d] + messages[2, y, x, d]
-                                    + messages[3, y, x, d])
+                beliefs[y, x, d] = (
+                    data[y, x, d]
+                    + messages[0, y, x, d]
+                    + messages[1, y, x, d]
+                    + messages[2, y, x, d]
+                    + messages[3, y, x, d]
+                )
     return beliefs
 
 
@@ -83,7 +112,7 @@ def _pair_sum(array: np.ndarray, axis: int) -> np.ndarray:
         pad = [(0, 0)] * array.ndim
         pad[axis] = (0, 1)
         array = np.pad(array, pad)
-    shape = array.shape[:axis] + (array.shape[axis] // 2, 2) + array.shape[axis + 1:]
+    shape = array.shape[:axis] + (array.shape[axis] // 2, 2) + array.shape[axis + 1 :]
     return array.reshape(shape).sum(axis=axis + 1)
 
 
@@ -97,9 +126,15 @@ def _coarser(data, right, down):
     return coarse_data, coarse_right, coarse_down
 
 
-def belief_propagation(cost: np.ndarray, right: np.ndarray, down: np.ndarray, *,
-                       truncation: float, scales: int = 5, iterations: int = 5
-                       ) -> np.ndarray:
+def belief_propagation(
+    cost: np.ndarray,
+    right: np.ndarray,
+    down: np.ndarray,
+    *,
+    truncation: float,
+    scales: int = 5,
+    iterations: int = 5,
+) -> np.ndarray:
     """Beliefs of hierarchical min-sum belief propagation.
 
     Minimises ``sum_p C(p, f_p) + sum_pq w_pq min(|f_p - f_q|, truncation)`` approximately.
@@ -124,13 +159,16 @@ def belief_propagation(cost: np.ndarray, right: np.ndarray, down: np.ndarray, *,
         Data cost plus the four incoming messages at each pixel.
     """
     cost = np.ascontiguousarray(cost, dtype=np.float32)
-    rows, cols, levels = cost.shape
+    rows, cols, _levels = cost.shape
     if right.shape != (rows, cols - 1) or down.shape != (rows - 1, cols):
-        raise ValueError(f"weights of shapes {right.shape} and {down.shape} do not fit a "
-                         f"{rows}x{cols} grid")
+        raise ValueError(
+            f"weights of shapes {right.shape} and {down.shape} do not fit a {rows}x{cols} grid"
+        )
     if truncation < 1 or scales < 1 or iterations < 1:
-        raise ValueError(f"truncation, scales and iterations must be at least 1, got "
-                         f"{truncation}, {scales}, {iterations}")
+        raise ValueError(
+            f"truncation, scales and iterations must be at least 1, got "
+            f"{truncation}, {scales}, {iterations}"
+        )
     pyramid = [(cost, np.asarray(right, np.float32), np.asarray(down, np.float32))]
     while len(pyramid) < scales and min(pyramid[-1][0].shape[:2]) > 1:
         pyramid.append(_coarser(*pyramid[-1]))
@@ -140,18 +178,33 @@ def belief_propagation(cost: np.ndarray, right: np.ndarray, down: np.ndarray, *,
             messages = np.zeros((4,) + data.shape, np.float32)
         else:
             # each pixel starts from the messages its 2x2 block received
-            messages = np.ascontiguousarray(np.repeat(np.repeat(messages, 2, axis=1), 2,
-                                                      axis=2)[:, :data.shape[0], :data.shape[1]])
-        _iterate(np.ascontiguousarray(data), np.ascontiguousarray(level_right),
-                 np.ascontiguousarray(level_down), messages, np.float32(truncation),
-                 iterations)
+            messages = np.ascontiguousarray(
+                np.repeat(np.repeat(messages, 2, axis=1), 2, axis=2)[
+                    :, : data.shape[0], : data.shape[1]
+                ]
+            )
+        _iterate(
+            np.ascontiguousarray(data),
+            np.ascontiguousarray(level_right),
+            np.ascontiguousarray(level_down),
+            messages,
+            np.float32(truncation),
+            iterations,
+        )
     return _beliefs(cost, messages)
 
 
-def bp_volume(cost: np.ndarray, guide: np.ndarray, *, smoothing: float = 16.0,
-              smoothing2: float = 0.3, truncation: float = 4.0,
-              colour_scale: float = 10.0, scales: int = 5, iterations: int = 5
-              ) -> np.ndarray:
+def bp_volume(
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    smoothing: float = 16.0,
+    smoothing2: float = 0.3,
+    truncation: float = 4.0,
+    colour_scale: float = 10.0,
+    scales: int = 5,
+    iterations: int = 5,
+) -> np.ndarray:
     """The ``bp`` method: hierarchical belief propagation's beliefs.
 
     Parameters
@@ -172,7 +225,9 @@ def bp_volume(cost: np.ndarray, guide: np.ndarray, *, smoothing: float = 16.0,
     ndarray of float32, shape (H, W, D)
     """
     cost = np.ascontiguousarray(cost, dtype=np.float32)
-    right, down = smoothness_weights(cost, guide, smoothing=smoothing, smoothing2=smoothing2,
-                                     colour_scale=colour_scale)
-    return belief_propagation(cost, right, down, truncation=truncation, scales=scales,
-                              iterations=iterations)
+    right, down = smoothness_weights(
+        cost, guide, smoothing=smoothing, smoothing2=smoothing2, colour_scale=colour_scale
+    )
+    return belief_propagation(
+        cost, right, down, truncation=truncation, scales=scales, iterations=iterations
+    )

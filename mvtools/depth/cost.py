@@ -6,32 +6,48 @@ difference of the intensity gradients."""
 from __future__ import annotations
 
 import cv2
-import numpy as np
 import llvmlite.ir as ir
+import numpy as np
 from numba import njit, prange, types
 from numba.extending import intrinsic
 
-__all__ = ["COSTS", "census_transform", "support_weights", "ad_census_cost",
-           "census_gradient_cost", "as_colour", "check_pair", "popcount"]
+__all__ = [
+    "COSTS",
+    "ad_census_cost",
+    "as_colour",
+    "census_gradient_cost",
+    "census_transform",
+    "check_pair",
+    "popcount",
+    "support_weights",
+]
 
 
 def _neighbour_offsets(window: tuple[int, int], step: int) -> list[tuple[int, int]]:
     # The census neighbours in row-major order, the first one the signature's highest bit.
     height, width = window
-    if (height % 2 == 0 or width % 2 == 0 or step < 1 or (height // 2) % step
-            or (width // 2) % step):
-        raise ValueError(f"census window must be odd-sized with half sizes divisible by the "
-                         f"step, got {window} with step {step}")
-    offsets = [(dy, dx) for dy in range(-(height // 2), height // 2 + 1, step)
-               for dx in range(-(width // 2), width // 2 + 1, step) if (dy, dx) != (0, 0)]
+    if height % 2 == 0 or width % 2 == 0 or step < 1 or (height // 2) % step or (width // 2) % step:
+        raise ValueError(
+            f"census window must be odd-sized with half sizes divisible by the "
+            f"step, got {window} with step {step}"
+        )
+    offsets = [
+        (dy, dx)
+        for dy in range(-(height // 2), height // 2 + 1, step)
+        for dx in range(-(width // 2), width // 2 + 1, step)
+        if (dy, dx) != (0, 0)
+    ]
     if len(offsets) > 64:
-        raise ValueError(f"census window {window} with step {step} has {len(offsets)} "
-                         f"neighbours, more than the 64 bits of a signature")
+        raise ValueError(
+            f"census window {window} with step {step} has {len(offsets)} "
+            f"neighbours, more than the 64 bits of a signature"
+        )
     return offsets
 
 
-def census_transform(grey: np.ndarray, *, window: tuple[int, int] = (7, 9),
-                     step: int = 1) -> np.ndarray:
+def census_transform(
+    grey: np.ndarray, *, window: tuple[int, int] = (7, 9), step: int = 1
+) -> np.ndarray:
     """Census signature of every pixel: one bit per window neighbour darker than the centre.
 
     Parameters
@@ -51,8 +67,9 @@ def census_transform(grey: np.ndarray, *, window: tuple[int, int] = (7, 9),
     """
     _neighbour_offsets(window, step)
     height, width = window
-    padded = np.pad(np.asarray(grey, dtype=np.float32), ((height // 2,) * 2, (width // 2,) * 2),
-                    mode="edge")
+    padded = np.pad(
+        np.asarray(grey, dtype=np.float32), ((height // 2,) * 2, (width // 2,) * 2), mode="edge"
+    )
     return _census(padded, height, width, step)
 
 
@@ -73,8 +90,9 @@ def _census(padded, height, width, step):
     return signature
 
 
-def support_weights(colour: np.ndarray, *, window: tuple[int, int] = (7, 9), step: int = 1,
-                    gamma: float = 15.0) -> np.ndarray:
+def support_weights(
+    colour: np.ndarray, *, window: tuple[int, int] = (7, 9), step: int = 1, gamma: float = 15.0
+) -> np.ndarray:
     """Weight of each census neighbour: its colour similarity to the centre,
     ``exp(-mean_c |I_c(q) - I_c(p)| / gamma)`` (Yoon & Kweon's adaptive support weights).
 
@@ -123,12 +141,22 @@ def popcount(typing_context, value):
     def codegen(context, builder, signature, args):
         function = builder.module.declare_intrinsic("llvm.ctpop", [ir.IntType(64)])
         return builder.call(function, args)
+
     return types.uint64(types.uint64), codegen
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _ad_census_volume(census_left, census_right, colour_left, colour_right, min_disparity,
-                      levels, census_table, colour_table, outside_cost):
+def _ad_census_volume(
+    census_left,
+    census_right,
+    colour_left,
+    colour_right,
+    min_disparity,
+    levels,
+    census_table,
+    colour_table,
+    outside_cost,
+):
     rows, cols, _ = colour_left.shape
     volume = np.empty((rows, cols, levels), np.float32)
     for y in prange(rows):
@@ -140,19 +168,33 @@ def _ad_census_volume(census_left, census_right, colour_left, colour_right, min_
                 if xr < 0 or xr >= cols:
                     volume[y, x, k] = outside_cost
                     continue
-                colour = (abs(red - colour_right[y, xr, 0]) + abs(green - colour_right[y, xr, 1])
-                          + abs(blue - colour_right[y, xr, 2]))
-                volume[y, x, k] = (census_table[popcount(signature ^ census_right[y, xr])]
-                                   + colour_table[colour])
+                colour = (
+                    abs(red - colour_right[y, xr, 0])
+                    + abs(green - colour_right[y, xr, 1])
+                    + abs(blue - colour_right[y, xr, 2])
+                )
+                volume[y, x, k] = (
+                    census_table[popcount(signature ^ census_right[y, xr])] + colour_table[colour]
+                )
     return volume
 
 
 # fastmath lets the sums over the neighbours run in SIMD lanes; the order of the
 # additions is fixed by the compiled code, so the result stays deterministic.
 @njit(cache=True, nogil=True, parallel=True, fastmath=True)
-def _census_gradient_volume(bits_left, bits_right, weights_left, weights_right,
-                            gradient_left, gradient_right, min_disparity, levels,
-                            lambda_census, lambda_gradient, outside_cost):
+def _census_gradient_volume(
+    bits_left,
+    bits_right,
+    weights_left,
+    weights_right,
+    gradient_left,
+    gradient_right,
+    min_disparity,
+    levels,
+    lambda_census,
+    lambda_gradient,
+    outside_cost,
+):
     rows, cols, neighbours = weights_left.shape
     volume = np.empty((rows, cols, levels), np.float32)
     for y in prange(rows):
@@ -168,17 +210,20 @@ def _census_gradient_volume(bits_left, bits_right, weights_left, weights_right,
                     weight = weights_left[y, x, b] * weights_right[y, xr, b]
                     total += weight
                     mismatch += weight * np.float32(bits_left[y, x, b] ^ bits_right[y, xr, b])
-                gradient = (abs(gradient_left[y, x, 0] - gradient_right[y, xr, 0])
-                            + abs(gradient_left[y, x, 1] - gradient_right[y, xr, 1]))
+                gradient = abs(gradient_left[y, x, 0] - gradient_right[y, xr, 0]) + abs(
+                    gradient_left[y, x, 1] - gradient_right[y, xr, 1]
+                )
                 # no neighbour inside both views (a view of one pixel): no census evidence
                 fraction = mismatch / total if total > 0 else np.float32(0.0)
-                volume[y, x, k] = (2.0 - np.exp(-fraction / lambda_census)
-                                   - np.exp(-gradient / lambda_gradient))
+                volume[y, x, k] = (
+                    2.0 - np.exp(-fraction / lambda_census) - np.exp(-gradient / lambda_gradient)
+                )
     return volume
 
 
-def check_pair(left: np.ndarray, right: np.ndarray, *, min_disparity: int,
-               max_disparity: int) -> tuple[np.ndarray, np.ndarray]:
+def check_pair(
+    left: np.ndarray, right: np.ndarray, *, min_disparity: int, max_disparity: int
+) -> tuple[np.ndarray, np.ndarray]:
     """The views of a rectified pair as arrays, checked for what every matcher needs.
 
     Raises
@@ -189,22 +234,36 @@ def check_pair(left: np.ndarray, right: np.ndarray, *, min_disparity: int,
     """
     left = np.asarray(left)
     right = np.asarray(right)
-    if left.shape != right.shape or left.ndim not in (2, 3) or (
-            left.ndim == 3 and left.shape[2] != 3):
-        raise ValueError(f"views must be (H, W) or (H, W, 3) arrays of the same shape, got "
-                         f"{left.shape} and {right.shape}")
+    if (
+        left.shape != right.shape
+        or left.ndim not in (2, 3)
+        or (left.ndim == 3 and left.shape[2] != 3)
+    ):
+        raise ValueError(
+            f"views must be (H, W) or (H, W, 3) arrays of the same shape, got "
+            f"{left.shape} and {right.shape}"
+        )
     if min_disparity > max_disparity:
-        raise ValueError(f"min_disparity {min_disparity} exceeds max_disparity "
-                         f"{max_disparity}")
+        raise ValueError(f"min_disparity {min_disparity} exceeds max_disparity {max_disparity}")
     if max_disparity - min_disparity >= left.shape[1]:
-        raise ValueError(f"disparity range {min_disparity}..{max_disparity} is not narrower "
-                         f"than the image width {left.shape[1]}")
+        raise ValueError(
+            f"disparity range {min_disparity}..{max_disparity} is not narrower "
+            f"than the image width {left.shape[1]}"
+        )
     return left, right
 
 
-def ad_census_cost(left: np.ndarray, right: np.ndarray, *, min_disparity: int, levels: int,
-                   census_window: tuple[int, int] = (7, 9), lambda_census: float = 30.0,
-                   lambda_colour: float = 20.0, outside_cost: float = 0.7) -> np.ndarray:
+def ad_census_cost(
+    left: np.ndarray,
+    right: np.ndarray,
+    *,
+    min_disparity: int,
+    levels: int,
+    census_window: tuple[int, int] = (7, 9),
+    lambda_census: float = 30.0,
+    lambda_colour: float = 20.0,
+    outside_cost: float = 0.7,
+) -> np.ndarray:
     """AD-census matching cost volume of the left view (Mei et al. 2011).
 
     ``cost = 2 - exp(-hamming / lambda_census) - exp(-colour / lambda_colour)``: each term
@@ -237,17 +296,32 @@ def ad_census_cost(left: np.ndarray, right: np.ndarray, *, min_disparity: int, l
     census_table = 1.0 - np.exp(-np.arange(65) / lambda_census)
     largest = int(max(colour_left.max(), colour_right.max(), 0))
     colour_table = 1.0 - np.exp(-np.arange(3 * largest + 1) / 3 / lambda_colour)
-    return _ad_census_volume(census_left, census_right, colour_left, colour_right,
-                             int(min_disparity), int(levels),
-                             census_table.astype(np.float32), colour_table.astype(np.float32),
-                             np.float32(outside_cost))
+    return _ad_census_volume(
+        census_left,
+        census_right,
+        colour_left,
+        colour_right,
+        int(min_disparity),
+        int(levels),
+        census_table.astype(np.float32),
+        colour_table.astype(np.float32),
+        np.float32(outside_cost),
+    )
 
 
-def census_gradient_cost(left: np.ndarray, right: np.ndarray, *, min_disparity: int,
-                         levels: int, census_window: tuple[int, int] = (13, 13),
-                         census_step: int = 2, gamma: float = 15.0,
-                         lambda_census: float = 30 / 63, lambda_gradient: float = 15.0,
-                         outside_cost: float = 0.8) -> np.ndarray:
+def census_gradient_cost(
+    left: np.ndarray,
+    right: np.ndarray,
+    *,
+    min_disparity: int,
+    levels: int,
+    census_window: tuple[int, int] = (13, 13),
+    census_step: int = 2,
+    gamma: float = 15.0,
+    lambda_census: float = 30 / 63,
+    lambda_gradient: float = 15.0,
+    outside_cost: float = 0.8,
+) -> np.ndarray:
     """Matching cost volume of the left view: weighted sparse census plus gradients.
 
     ``cost = 2 - exp(-census / lambda_census) - exp(-gradient / lambda_gradient)``, each
@@ -329,29 +403,48 @@ def census_gradient_cost(left: np.ndarray, right: np.ndarray, *, min_disparity: 
     for colour in (colour_left, colour_right):
         grey = colour.mean(axis=2, dtype=np.float32)
         signature = census_transform(grey, window=census_window, step=census_step)
-        view_weights = support_weights(colour, window=census_window, step=census_step,
-                                       gamma=gamma)
+        view_weights = support_weights(colour, window=census_window, step=census_step, gamma=gamma)
         # one byte per neighbour, highest bit first, as the weights are ordered
         shifts = np.arange(view_weights.shape[2] - 1, -1, -1, dtype=np.uint64)
-        bits.append(np.ascontiguousarray(
-            ((signature[:, :, None] >> shifts) & np.uint64(1)).astype(np.uint8)))
+        bits.append(
+            np.ascontiguousarray(
+                ((signature[:, :, None] >> shifts) & np.uint64(1)).astype(np.uint8)
+            )
+        )
         weights.append(view_weights)
         # Sobel / 8: the derivative in levels per pixel
-        gradients.append(np.ascontiguousarray(np.stack(
-            [cv2.Sobel(grey, cv2.CV_32F, 1, 0, ksize=3, borderType=cv2.BORDER_REPLICATE) / 8,
-             cv2.Sobel(grey, cv2.CV_32F, 0, 1, ksize=3, borderType=cv2.BORDER_REPLICATE) / 8],
-            axis=2)))
-    return _census_gradient_volume(*bits, *weights, *gradients, int(min_disparity),
-                                   int(levels), np.float32(lambda_census),
-                                   np.float32(lambda_gradient), np.float32(outside_cost))
+        gradients.append(
+            np.ascontiguousarray(
+                np.stack(
+                    [
+                        cv2.Sobel(grey, cv2.CV_32F, 1, 0, ksize=3, borderType=cv2.BORDER_REPLICATE)
+                        / 8,
+                        cv2.Sobel(grey, cv2.CV_32F, 0, 1, ksize=3, borderType=cv2.BORDER_REPLICATE)
+                        / 8,
+                    ],
+                    axis=2,
+                )
+            )
+        )
+    return _census_gradient_volume(
+        *bits,
+        *weights,
+        *gradients,
+        int(min_disparity),
+        int(levels),
+        np.float32(lambda_census),
+        np.float32(lambda_gradient),
+        np.float32(outside_cost),
+    )
 
 
 def as_colour(image: np.ndarray) -> np.ndarray:
     """An (H, W, 3) or (H, W) view as contiguous (H, W, 3) int32, rounded, grey repeated in
     three equal channels: one kernel then serves colour and grey views."""
     image = np.rint(np.asarray(image)).astype(np.int32)
-    return np.ascontiguousarray(np.repeat(image[:, :, None], 3, axis=2) if image.ndim == 2
-                                else image)
+    return np.ascontiguousarray(
+        np.repeat(image[:, :, None], 3, axis=2) if image.ndim == 2 else image
+    )
 
 
 #: name -> ``cost(left, right, *, min_disparity, levels) -> (H, W, levels) float32``,

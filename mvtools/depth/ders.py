@@ -41,14 +41,19 @@ import numpy as np
 from mvtools.depth import METHODS
 from mvtools.depth.local import soft_segment_aggregate
 from mvtools.depth.planesweep import plane_sweep_cost
-from mvtools.depth.refine import fill_from_background, median_smooth, near_depth_edges, weighted_median
+from mvtools.depth.refine import (
+    fill_from_background,
+    median_smooth,
+    near_depth_edges,
+    weighted_median,
+)
 from mvtools.depth.segment import plane_segments, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import winner_takes_all
 from mvtools.geometry.camera import Camera
-from mvtools.geometry.depth import ders_depth_range, depth_sign, facing_camera
+from mvtools.geometry.depth import depth_sign, ders_depth_range, facing_camera
 from mvtools.params import DersParams
 
-__all__ = ["Neighbour", "DersEstimator", "TEMPORAL_BLOCK"]
+__all__ = ["TEMPORAL_BLOCK", "DersEstimator", "Neighbour"]
 
 #: Block size (pixels) of TemporalEnhancement's static test.
 TEMPORAL_BLOCK = 8
@@ -107,8 +112,14 @@ class DersEstimator:
         DepthEstimationMode values other than 0).
     """
 
-    def __init__(self, params: DersParams, center: Camera, neighbours: Sequence[Neighbour], *,
-                 method: str = "sgm"):
+    def __init__(
+        self,
+        params: DersParams,
+        center: Camera,
+        neighbours: Sequence[Neighbour],
+        *,
+        method: str = "sgm",
+    ):
         if not neighbours:
             raise ValueError("depth estimation needs a left or a right neighbour")
         sides = [neighbour.side for neighbour in neighbours if neighbour.side is not None]
@@ -122,9 +133,12 @@ class DersEstimator:
         facing_range = params.depth_range or params.search_depth_range
         if facing_range is not None:
             center = facing_camera(center, facing_range, depth_type=params.depth_type)
-            neighbours = [Neighbour(facing_camera(n.camera, facing_range,
-                                                  depth_type=params.depth_type), n.side)
-                          for n in neighbours]
+            neighbours = [
+                Neighbour(
+                    facing_camera(n.camera, facing_range, depth_type=params.depth_type), n.side
+                )
+                for n in neighbours
+            ]
         self.center = center
         self.neighbours = list(neighbours)
         self.method = method
@@ -137,17 +151,23 @@ class DersEstimator:
     def _basis(self) -> tuple[float, float]:
         """``(f B, offset)`` of the BaselineBasis view: ``1/z = (d + offset) / (f B)``."""
         basis = self.params.baseline_basis
-        baselines = {n.side: float(np.linalg.norm(n.camera.t - self.center.t))
-                     for n in self.neighbours if n.side is not None}
+        baselines = {
+            n.side: float(np.linalg.norm(n.camera.t - self.center.t))
+            for n in self.neighbours
+            if n.side is not None
+        }
         if not baselines:
-            raise ValueError("a disparity search range needs a left or right neighbour for "
-                             "its baseline (BaselineBasis); give the z search range "
-                             "(NearestSearchDepthValue, FarthestSearchDepthValue) instead")
+            raise ValueError(
+                "a disparity search range needs a left or right neighbour for "
+                "its baseline (BaselineBasis); give the z search range "
+                "(NearestSearchDepthValue, FarthestSearchDepthValue) instead"
+            )
         if basis in (2, 3):
             side = "left" if basis == 2 else "right"
             if side not in baselines:
-                raise ValueError(f"BaselineBasis {basis} refers to the {side} view, which is not "
-                                 "matched")
+                raise ValueError(
+                    f"BaselineBasis {basis} refers to the {side} view, which is not matched"
+                )
         else:
             pick = min if basis == 0 else max
             side = pick(baselines, key=baselines.get)
@@ -166,19 +186,25 @@ class DersEstimator:
             sign = depth_sign(nearest, farthest) if params.depth_type == 0 else 1
             return sign * np.linspace(1.0 / farthest, 1.0 / nearest, params.number_of_depth_steps)
         if params.depth_type == 1:
-            raise ValueError("DepthType 1 needs the search range in z (NearestSearchDepthValue, "
-                             "FarthestSearchDepthValue)")
+            raise ValueError(
+                "DepthType 1 needs the search range in z (NearestSearchDepthValue, "
+                "FarthestSearchDepthValue)"
+            )
         low = params.minimum_value_of_disparity_search_range
         high = params.maximum_value_of_disparity_search_range
-        steps = int(round((high - low) * params.search_level))
+        steps = round((high - low) * params.search_level)
         if steps < 1:
-            raise ValueError(f"disparity search range [{low}, {high}] at SearchLevel "
-                             f"{params.search_level:g} holds a single disparity: nothing to search")
+            raise ValueError(
+                f"disparity search range [{low}, {high}] at SearchLevel "
+                f"{params.search_level:g} holds a single disparity: nothing to search"
+            )
         focal_baseline, offset = self._basis()
         disparities = low + np.arange(steps + 1) / params.search_level
         if disparities[0] + offset < 0:
-            raise ValueError(f"disparity {low} with principal-point offset {offset:g} puts the "
-                             "farthest plane behind the cameras")
+            raise ValueError(
+                f"disparity {low} with principal-point offset {offset:g} puts the "
+                "farthest plane behind the cameras"
+            )
         return (disparities + offset) / focal_baseline
 
     def _output_range(self) -> tuple[float, float]:
@@ -186,8 +212,13 @@ class DersEstimator:
         if params.depth_range is not None:
             return params.depth_range
         focal_baseline, offset = self._basis()
-        return ders_depth_range(focal_baseline, 1.0, params.minimum_value_of_disparity_range,
-                                params.maximum_value_of_disparity_range, offset=offset)
+        return ders_depth_range(
+            focal_baseline,
+            1.0,
+            params.minimum_value_of_disparity_range,
+            params.maximum_value_of_disparity_range,
+            offset=offset,
+        )
 
     # ------------------------------------------------------------------ frames
 
@@ -210,18 +241,29 @@ class DersEstimator:
         params = self.params
         center = np.asarray(center, np.float32)
         sweep = plane_sweep_cost(
-            center, neighbours, self.center, [n.camera for n in self.neighbours],
-            self.inverse_depths, depth_type=params.depth_type,
+            center,
+            neighbours,
+            self.center,
+            [n.camera for n in self.neighbours],
+            self.inverse_depths,
+            depth_type=params.depth_type,
             precision=(params.precision, params.vertical_precision),
-            filter="linear" if params.filter == 0 else "cubic", block=params.matching_block)
+            filter="linear" if params.filter == 0 else "cubic",
+            block=params.matching_block,
+        )
         cost = sweep.cost
         if params.matching_method == 3:
             cost = soft_segment_aggregate(
-                cost, center, block=(params.soft_block_width, params.soft_block_height),
-                distance_coeff=params.soft_distance_coeff, colour_coeff=params.soft_color_coeff)
+                cost,
+                center,
+                block=(params.soft_block_width, params.soft_block_height),
+                distance_coeff=params.soft_distance_coeff,
+                colour_coeff=params.soft_color_coeff,
+            )
         if params.smoothing_coefficient > 0:
-            volume = METHODS[self.method](cost * np.float32(
-                _NEUTRAL_SMOOTHING / params.smoothing_coefficient), center)
+            volume = METHODS[self.method](
+                cost * np.float32(_NEUTRAL_SMOOTHING / params.smoothing_coefficient), center
+            )
         else:
             volume = cost
         level = winner_takes_all(np.ascontiguousarray(volume, np.float32))
@@ -255,8 +297,9 @@ class DersEstimator:
         period = self.params.temporal_refresh_period
         return index - index % period if period else 0
 
-    def _segment_planes(self, level: np.ndarray, seen: np.ndarray, cost: np.ndarray,
-                        center: np.ndarray) -> np.ndarray:
+    def _segment_planes(
+        self, level: np.ndarray, seen: np.ndarray, cost: np.ndarray, center: np.ndarray
+    ) -> np.ndarray:
         """ImageSegmentation 1: colour segments of the center view whose robust plane of
         levels (planes in 1/z, hence in disparity for parallel cameras) costs about as much
         as their levels take it, and fattened foreground next to depth steps falls back
@@ -281,8 +324,11 @@ class DersEstimator:
         if previous is None:
             return z
         change = _block_mean(np.abs(luma - previous[0]), TEMPORAL_BLOCK)
-        static = np.repeat(np.repeat(change < self.params.threshold, TEMPORAL_BLOCK, axis=0),
-                           TEMPORAL_BLOCK, axis=1)[:z.shape[0], :z.shape[1]]
+        static = np.repeat(
+            np.repeat(change < self.params.threshold, TEMPORAL_BLOCK, axis=0),
+            TEMPORAL_BLOCK,
+            axis=1,
+        )[: z.shape[0], : z.shape[1]]
         kept = np.where(static, previous[1], z)
         self._previous = (luma, kept)
         return kept
@@ -292,8 +338,11 @@ def _block_mean(values: np.ndarray, block: int) -> np.ndarray:
     """Mean over ``block x block`` tiles (partial tiles at the right and bottom edges)."""
     rows, cols = values.shape
     tiles_y, tiles_x = -(-rows // block), -(-cols // block)
-    sums = np.add.reduceat(np.add.reduceat(values, np.arange(0, rows, block), axis=0),
-                           np.arange(0, cols, block), axis=1)
+    sums = np.add.reduceat(
+        np.add.reduceat(values, np.arange(0, rows, block), axis=0),
+        np.arange(0, cols, block),
+        axis=1,
+    )
     heights = np.minimum(block, rows - np.arange(tiles_y) * block)
     widths = np.minimum(block, cols - np.arange(tiles_x) * block)
     return sums / (heights[:, None] * widths[None, :])

@@ -12,12 +12,12 @@ import maxflow
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["graphcut_volume", "smoothness_weights", "alpha_expansion"]
+__all__ = ["alpha_expansion", "graphcut_volume", "smoothness_weights"]
 
 
-def smoothness_weights(cost: np.ndarray, guide: np.ndarray, *, smoothing: float,
-                       smoothing2: float, colour_scale: float
-                       ) -> tuple[np.ndarray, np.ndarray]:
+def smoothness_weights(
+    cost: np.ndarray, guide: np.ndarray, *, smoothing: float, smoothing2: float, colour_scale: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Weights of the pairwise terms between 4-connected neighbours, DERS style.
 
     DERS charges ``SmoothingCoefficient`` grey levels of its 8-bit absolute-difference
@@ -48,8 +48,9 @@ def smoothness_weights(cost: np.ndarray, guide: np.ndarray, *, smoothing: float,
         Weight between ``(y, x)`` and ``(y + 1, x)``.
     """
     if smoothing < 0 or smoothing2 < 0:
-        raise ValueError(f"smoothing coefficients must be non-negative, got {smoothing} and "
-                         f"{smoothing2}")
+        raise ValueError(
+            f"smoothing coefficients must be non-negative, got {smoothing} and {smoothing2}"
+        )
     if colour_scale <= 0:
         raise ValueError(f"colour_scale must be positive, got {colour_scale}")
     guide = np.asarray(guide, np.float32)
@@ -57,8 +58,11 @@ def smoothness_weights(cost: np.ndarray, guide: np.ndarray, *, smoothing: float,
     weights = []
     for step in (guide[:, 1:] - guide[:, :-1], guide[1:] - guide[:-1]):
         similarity = np.exp(-np.abs(step).mean(axis=2) / colour_scale)
-        weights.append((smoothing * grey_level
-                        * (smoothing2 + (1.0 - smoothing2) * similarity)).astype(np.float32))
+        weights.append(
+            (smoothing * grey_level * (smoothing2 + (1.0 - smoothing2) * similarity)).astype(
+                np.float32
+            )
+        )
     return weights[0], weights[1]
 
 
@@ -77,9 +81,15 @@ def _edge_terms(labels, alpha, right, down, truncation):
     terms = []
     for weight, head, tail in ((right, _LEFT, _RIGHT), (down, _TOP, _BOTTOM)):
         lp, lq = labels[head], labels[tail]
-        terms.append((head, tail, weight * _pairwise(lp, lq, truncation),
-                      weight * _pairwise(lp, alpha, truncation),
-                      weight * _pairwise(alpha, lq, truncation)))
+        terms.append(
+            (
+                head,
+                tail,
+                weight * _pairwise(lp, lq, truncation),
+                weight * _pairwise(lp, alpha, truncation),
+                weight * _pairwise(alpha, lq, truncation),
+            )
+        )
     return terms
 
 
@@ -132,16 +142,14 @@ def _expansion_move(cost_by_level, labels, current, alpha, right, down, truncati
     graph = maxflow.GraphFloat(count, 2 * count)
     nodes = graph.add_nodes(count)
     for head, tail, both, capacity in edges:
-        graph.add_edges(index[head][both], index[tail][both], capacity,
-                        np.zeros_like(capacity))
+        graph.add_edges(index[head][both], index[tail][both], capacity, np.zeros_like(capacity))
     keep_active, take_active = keep[active], take[active]
     lower = np.minimum(keep_active, take_active)
     # sink capacity is paid when the node stays on the source side (keeps its label)
     graph.add_grid_tedges(nodes, take_active - lower, keep_active - lower)
     graph.maxflow()
     expand = graph.get_grid_segments(nodes)
-    change = float(np.sum(np.where(expand, take_active, keep_active))
-                   - keep_active.sum())
+    change = float(np.sum(np.where(expand, take_active, keep_active)) - keep_active.sum())
     for head, tail, both, capacity in edges:
         # the (1 - xp) xq edge term, not part of the unaries
         xp = expand[index[head][both]]
@@ -156,8 +164,9 @@ def _expansion_move(cost_by_level, labels, current, alpha, right, down, truncati
     return change
 
 
-def alpha_expansion(cost: np.ndarray, right: np.ndarray, down: np.ndarray, *,
-                    truncation: int, cycles: int = 2) -> np.ndarray:
+def alpha_expansion(
+    cost: np.ndarray, right: np.ndarray, down: np.ndarray, *, truncation: int, cycles: int = 2
+) -> np.ndarray:
     """Labels minimising ``sum_p C(p, f_p) + sum_pq w_pq min(|f_p - f_q|, truncation)``
     by alpha-expansion from the winner-takes-all labels.
 
@@ -180,11 +189,11 @@ def alpha_expansion(cost: np.ndarray, right: np.ndarray, down: np.ndarray, *,
     cost = np.asarray(cost, np.float32)
     rows, cols, levels = cost.shape
     if right.shape != (rows, cols - 1) or down.shape != (rows - 1, cols):
-        raise ValueError(f"weights of shapes {right.shape} and {down.shape} do not fit a "
-                         f"{rows}x{cols} grid")
+        raise ValueError(
+            f"weights of shapes {right.shape} and {down.shape} do not fit a {rows}x{cols} grid"
+        )
     if truncation < 1 or cycles < 1:
-        raise ValueError(f"truncation and cycles must be at least 1, got {truncation} and "
-                         f"{cycles}")
+        raise ValueError(f"truncation and cycles must be at least 1, got {truncation} and {cycles}")
     cost_by_level = np.ascontiguousarray(cost.transpose(2, 0, 1))
     labels = np.argmin(cost, axis=2)
     current = np.min(cost, axis=2)
@@ -193,8 +202,7 @@ def alpha_expansion(cost: np.ndarray, right: np.ndarray, down: np.ndarray, *,
     for _ in range(cycles):
         improved = False
         for alpha in range(levels):
-            change = _expansion_move(cost_by_level, labels, current, alpha, right, down,
-                                     truncation)
+            change = _expansion_move(cost_by_level, labels, current, alpha, right, down, truncation)
             improved = improved or change < 0.0
         if not improved:
             break
@@ -237,9 +245,16 @@ def label_energies(cost, labels, right, down, truncation):
     return volume
 
 
-def graphcut_volume(cost: np.ndarray, guide: np.ndarray, *, smoothing: float = 16.0,
-                    smoothing2: float = 1.0, truncation: int = 4,
-                    colour_scale: float = 10.0, cycles: int = 2) -> np.ndarray:
+def graphcut_volume(
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    smoothing: float = 16.0,
+    smoothing2: float = 1.0,
+    truncation: int = 4,
+    colour_scale: float = 10.0,
+    cycles: int = 2,
+) -> np.ndarray:
     """The ``graphcut`` method: DERS's alpha-expansion, returned as label energies.
 
     Every move's graph is built with whole-array operations; pixels that keep their
@@ -270,7 +285,8 @@ def graphcut_volume(cost: np.ndarray, guide: np.ndarray, *, smoothing: float = 1
         energy, up to ties), and along the diagonals it scores the right view.
     """
     cost = np.ascontiguousarray(cost, dtype=np.float32)
-    right, down = smoothness_weights(cost, guide, smoothing=smoothing, smoothing2=smoothing2,
-                                     colour_scale=colour_scale)
+    right, down = smoothness_weights(
+        cost, guide, smoothing=smoothing, smoothing2=smoothing2, colour_scale=colour_scale
+    )
     labels = alpha_expansion(cost, right, down, truncation=truncation, cycles=cycles)
     return label_energies(cost, labels, right, down, int(truncation))

@@ -9,7 +9,7 @@ import cv2
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["local_volume", "guided_filter", "soft_segment_aggregate"]
+__all__ = ["guided_filter", "local_volume", "soft_segment_aggregate"]
 
 # OpenCV filters images of at most 512 channels.
 _CHANNELS = 512
@@ -20,13 +20,23 @@ def _box(image: np.ndarray, radius: int) -> np.ndarray:
     size = (2 * radius + 1, 2 * radius + 1)
     if image.ndim < 3 or image.shape[2] <= _CHANNELS:
         return cv2.boxFilter(image, -1, size, borderType=cv2.BORDER_REFLECT)
-    return np.concatenate([cv2.boxFilter(np.ascontiguousarray(image[:, :, start:start + _CHANNELS]),
-                                         -1, size, borderType=cv2.BORDER_REFLECT)
-                           for start in range(0, image.shape[2], _CHANNELS)], axis=2)
+    return np.concatenate(
+        [
+            cv2.boxFilter(
+                np.ascontiguousarray(image[:, :, start : start + _CHANNELS]),
+                -1,
+                size,
+                borderType=cv2.BORDER_REFLECT,
+            )
+            for start in range(0, image.shape[2], _CHANNELS)
+        ],
+        axis=2,
+    )
 
 
-def guided_filter(volume: np.ndarray, guide: np.ndarray, *, radius: int,
-                  epsilon: float) -> np.ndarray:
+def guided_filter(
+    volume: np.ndarray, guide: np.ndarray, *, radius: int, epsilon: float
+) -> np.ndarray:
     """Colour guided filter of every slice of a volume.
 
     ``q = mean(a) . I + mean(b)`` with, per window, ``a = (Sigma + epsilon Id)^-1
@@ -49,8 +59,9 @@ def guided_filter(volume: np.ndarray, guide: np.ndarray, *, radius: int,
     ndarray of float32, shape (H, W, D)
     """
     if radius < 1 or epsilon <= 0:
-        raise ValueError(f"guided filter needs radius >= 1 and epsilon > 0, got {radius} and "
-                         f"{epsilon}")
+        raise ValueError(
+            f"guided filter needs radius >= 1 and epsilon > 0, got {radius} and {epsilon}"
+        )
     guide = np.ascontiguousarray(guide, dtype=np.float32)
     volume = np.ascontiguousarray(volume, dtype=np.float32)
     mean_guide = _box(guide, radius)
@@ -59,11 +70,14 @@ def guided_filter(volume: np.ndarray, guide: np.ndarray, *, radius: int,
         for j in range(i, 3):
             covariance[:, :, i, j] = covariance[:, :, j, i] = (
                 _box(guide[:, :, i] * guide[:, :, j], radius)
-                - mean_guide[:, :, i] * mean_guide[:, :, j])
+                - mean_guide[:, :, i] * mean_guide[:, :, j]
+            )
     inverse = np.linalg.inv(covariance + epsilon * np.eye(3, dtype=np.float32))
     mean_volume = _box(volume, radius)
-    cross = [_box(guide[:, :, [i]] * volume, radius) - mean_guide[:, :, [i]] * mean_volume
-             for i in range(3)]
+    cross = [
+        _box(guide[:, :, [i]] * volume, radius) - mean_guide[:, :, [i]] * mean_volume
+        for i in range(3)
+    ]
     offset = mean_volume
     filtered = np.zeros_like(volume)
     for i in range(3):
@@ -73,8 +87,9 @@ def guided_filter(volume: np.ndarray, guide: np.ndarray, *, radius: int,
     return filtered + _box(offset, radius)
 
 
-def local_volume(cost: np.ndarray, guide: np.ndarray, *, radius: int = 8,
-                 epsilon: float = 1e-4) -> np.ndarray:
+def local_volume(
+    cost: np.ndarray, guide: np.ndarray, *, radius: int = 8, epsilon: float = 1e-4
+) -> np.ndarray:
     """The ``local`` method: the cost volume aggregated by the guided filter.
 
     Parameters
@@ -93,8 +108,9 @@ def local_volume(cost: np.ndarray, guide: np.ndarray, *, radius: int = 8,
     ndarray of float32, shape (H, W, D)
         Aggregated costs; their per-pixel minimum is the winner-takes-all level.
     """
-    return guided_filter(cost, np.asarray(guide, np.float32) / 255.0, radius=radius,
-                         epsilon=epsilon)
+    return guided_filter(
+        cost, np.asarray(guide, np.float32) / 255.0, radius=radius, epsilon=epsilon
+    )
 
 
 @njit(cache=True, nogil=True, parallel=True)
@@ -108,9 +124,11 @@ def _soft_segment(cost, colour, up, down, left, right, distance_coeff, colour_co
             total = 0.0
             for qy in range(max(0, y - up), min(rows, y + down + 1)):
                 for qx in range(max(0, x - left), min(cols, x + right + 1)):
-                    difference = (abs(colour[qy, qx, 0] - colour[y, x, 0])
-                                  + abs(colour[qy, qx, 1] - colour[y, x, 1])
-                                  + abs(colour[qy, qx, 2] - colour[y, x, 2])) / 3.0
+                    difference = (
+                        abs(colour[qy, qx, 0] - colour[y, x, 0])
+                        + abs(colour[qy, qx, 1] - colour[y, x, 1])
+                        + abs(colour[qy, qx, 2] - colour[y, x, 2])
+                    ) / 3.0
                     distance = np.sqrt((qy - y) ** 2 + (qx - x) ** 2)
                     weight = np.exp(-distance / distance_coeff - difference / colour_coeff)
                     total += weight
@@ -121,8 +139,14 @@ def _soft_segment(cost, colour, up, down, left, right, distance_coeff, colour_co
     return result
 
 
-def soft_segment_aggregate(cost: np.ndarray, guide: np.ndarray, *, block: tuple[int, int] = (3, 3),
-                           distance_coeff: float = 20.0, colour_coeff: float = 20.0) -> np.ndarray:
+def soft_segment_aggregate(
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    block: tuple[int, int] = (3, 3),
+    distance_coeff: float = 20.0,
+    colour_coeff: float = 20.0,
+) -> np.ndarray:
     """DERS's soft-segment matching (MatchingMethod 3): each pixel's costs averaged over
     a block with adaptive support weights ``exp(-distance / distance_coeff -
     colour / colour_coeff)``, so that pixels of another colour, likely on another
@@ -147,12 +171,24 @@ def soft_segment_aggregate(cost: np.ndarray, guide: np.ndarray, *, block: tuple[
     """
     width, height = block
     if width < 1 or height < 1 or distance_coeff <= 0 or colour_coeff <= 0:
-        raise ValueError(f"need a block of at least 1x1 and positive coefficients, got "
-                         f"{block}, {distance_coeff}, {colour_coeff}")
+        raise ValueError(
+            f"need a block of at least 1x1 and positive coefficients, got "
+            f"{block}, {distance_coeff}, {colour_coeff}"
+        )
     cost = np.ascontiguousarray(cost, np.float32)
     guide = np.ascontiguousarray(guide, np.float32)
     if cost.ndim != 3 or guide.shape != cost.shape[:2] + (3,):
-        raise ValueError(f"cost must be (H, W, D) and guide (H, W, 3) of the same H, W, got "
-                         f"{cost.shape} and {guide.shape}")
-    return _soft_segment(cost, guide, (height - 1) // 2, height // 2, (width - 1) // 2, width // 2,
-                         float(distance_coeff), float(colour_coeff))
+        raise ValueError(
+            f"cost must be (H, W, D) and guide (H, W, 3) of the same H, W, got "
+            f"{cost.shape} and {guide.shape}"
+        )
+    return _soft_segment(
+        cost,
+        guide,
+        (height - 1) // 2,
+        height // 2,
+        (width - 1) // 2,
+        width // 2,
+        float(distance_coeff),
+        float(colour_coeff),
+    )

@@ -26,10 +26,12 @@ _LEFT, _RIGHT = -1.0, 1.0  # x in the other view = x + side * d
 def _uniform(y, x, step, draw):
     # splitmix64 finaliser of the draw's coordinates: a counter-based generator, the same
     # numbers whatever thread asks for them
-    h = ((np.uint64(y) * np.uint64(0x9E3779B97F4A7C15))
-         ^ (np.uint64(x) * np.uint64(0xC2B2AE3D27D4EB4F)))
-    h ^= (np.uint64(step) * np.uint64(0x165667B19E3779F9)
-          + np.uint64(draw) * np.uint64(0x27D4EB2F165667C5))
+    h = (np.uint64(y) * np.uint64(0x9E3779B97F4A7C15)) ^ (
+        np.uint64(x) * np.uint64(0xC2B2AE3D27D4EB4F)
+    )
+    h ^= np.uint64(step) * np.uint64(0x165667B19E3779F9) + np.uint64(draw) * np.uint64(
+        0x27D4EB2F165667C5
+    )
     h ^= h >> np.uint64(30)
     h *= np.uint64(0xBF58476D1CE4E5B9)
     h ^= h >> np.uint64(27)
@@ -39,8 +41,26 @@ def _uniform(y, x, step, draw):
 
 
 @njit(cache=True, nogil=True)
-def _window_cost(image, other, census, other_census, y, x, a, b, c, side, radius, stride,
-                 weight_table, alpha, tau_colour, tau_gradient, census_table, bound):
+def _window_cost(
+    image,
+    other,
+    census,
+    other_census,
+    y,
+    x,
+    a,
+    b,
+    c,
+    side,
+    radius,
+    stride,
+    weight_table,
+    alpha,
+    tau_colour,
+    tau_gradient,
+    census_table,
+    bound,
+):
     # Adaptive support weights exp(-|I_p - I_q|_1 / gamma) (tabulated) times the truncated
     # colour and gradient differences at q's match, linearly interpolated; stops early
     # once the sum exceeds ``bound``, all terms being non-negative. ``image`` and ``other``
@@ -61,8 +81,13 @@ def _window_cost(image, other, census, other_census, y, x, a, b, c, side, radius
             qx = x + wx
             if qx < 0 or qx >= cols:
                 continue
-            weight = weight_table[int(abs(image[qy, qx, 0] - red) + abs(image[qy, qx, 1] - green)
-                                      + abs(image[qy, qx, 2] - blue))]
+            weight = weight_table[
+                int(
+                    abs(image[qy, qx, 0] - red)
+                    + abs(image[qy, qx, 1] - green)
+                    + abs(image[qy, qx, 2] - blue)
+                )
+            ]
             match = qx + side * (a * qx + offset)
             if match < 0.0 or match > cols - 1:
                 total += weight * outside
@@ -70,30 +95,70 @@ def _window_cost(image, other, census, other_census, y, x, a, b, c, side, radius
             x0 = min(int(match), cols - 2)
             f = np.float32(match - x0)
             g = np.float32(1.0) - f
-            difference = (abs(image[qy, qx, 0] - g * other[qy, x0, 0] - f * other[qy, x0 + 1, 0])
-                          + abs(image[qy, qx, 1] - g * other[qy, x0, 1] - f * other[qy, x0 + 1, 1])
-                          + abs(image[qy, qx, 2] - g * other[qy, x0, 2] - f * other[qy, x0 + 1, 2]))
+            difference = (
+                abs(image[qy, qx, 0] - g * other[qy, x0, 0] - f * other[qy, x0 + 1, 0])
+                + abs(image[qy, qx, 1] - g * other[qy, x0, 1] - f * other[qy, x0 + 1, 1])
+                + abs(image[qy, qx, 2] - g * other[qy, x0, 2] - f * other[qy, x0 + 1, 2])
+            )
             slope = abs(image[qy, qx, 3] - g * other[qy, x0, 3] - f * other[qy, x0 + 1, 3])
             hamming = popcount(census[qy, qx] ^ other_census[qy, x0 + int(f >= 0.5)])
-            total += weight * ((1.0 - alpha) * min(difference, tau_colour)
-                               + alpha * min(slope, tau_gradient) + census_table[hamming])
+            total += weight * (
+                (1.0 - alpha) * min(difference, tau_colour)
+                + alpha * min(slope, tau_gradient)
+                + census_table[hamming]
+            )
         if total > bound:
             return total
     return total
 
 
 @njit(cache=True, nogil=True)
-def _try(planes, costs, views, side, y, x, a, b, c, low, high, radius, stride, weight_table, alpha,
-         tau_colour, tau_gradient, census_table):
+def _try(
+    planes,
+    costs,
+    views,
+    side,
+    y,
+    x,
+    a,
+    b,
+    c,
+    low,
+    high,
+    radius,
+    stride,
+    weight_table,
+    alpha,
+    tau_colour,
+    tau_gradient,
+    census_table,
+):
     # Adopt plane (a, b, c) at (y, x) if its centre disparity is in range and it costs less.
     disparity = a * x + b * y + c
     if disparity < low or disparity > high:
         return False
     if a == planes[y, x, 0] and b == planes[y, x, 1] and c == planes[y, x, 2]:
         return False
-    cost = _window_cost(views[0], views[1], views[2], views[3], y, x, a, b, c, side, radius,
-                        stride, weight_table, alpha, tau_colour, tau_gradient, census_table,
-                        costs[y, x])
+    cost = _window_cost(
+        views[0],
+        views[1],
+        views[2],
+        views[3],
+        y,
+        x,
+        a,
+        b,
+        c,
+        side,
+        radius,
+        stride,
+        weight_table,
+        alpha,
+        tau_colour,
+        tau_gradient,
+        census_table,
+        costs[y, x],
+    )
     if cost < costs[y, x]:
         planes[y, x, 0], planes[y, x, 1], planes[y, x, 2] = a, b, c
         costs[y, x] = cost
@@ -121,8 +186,24 @@ def _random_plane(y, x, step, draw, low, high, min_normal_z):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _initialise(planes, costs, views, side, initial, low, high, step, radius, stride, weight_table,
-                alpha, tau_colour, tau_gradient, census_table, min_normal_z):
+def _initialise(
+    planes,
+    costs,
+    views,
+    side,
+    initial,
+    low,
+    high,
+    step,
+    radius,
+    stride,
+    weight_table,
+    alpha,
+    tau_colour,
+    tau_gradient,
+    census_table,
+    min_normal_z,
+):
     # a random plane, replaced by the fronto-parallel plane of the initial disparity
     # where that costs less
     rows, cols = costs.shape
@@ -130,17 +211,69 @@ def _initialise(planes, costs, views, side, initial, low, high, step, radius, st
         for x in range(cols):
             a, b, c = _random_plane(y, x, step, 0, low, high, min_normal_z)
             planes[y, x, 0], planes[y, x, 1], planes[y, x, 2] = a, b, c
-            costs[y, x] = _window_cost(views[0], views[1], views[2], views[3], y, x, a, b, c,
-                                       side, radius, stride, weight_table, alpha, tau_colour,
-                                       tau_gradient, census_table, np.inf)
+            costs[y, x] = _window_cost(
+                views[0],
+                views[1],
+                views[2],
+                views[3],
+                y,
+                x,
+                a,
+                b,
+                c,
+                side,
+                radius,
+                stride,
+                weight_table,
+                alpha,
+                tau_colour,
+                tau_gradient,
+                census_table,
+                np.inf,
+            )
             if np.isfinite(initial[y, x]):
-                _try(planes, costs, views, side, y, x, 0.0, 0.0, initial[y, x], low, high, radius,
-                     stride, weight_table, alpha, tau_colour, tau_gradient, census_table)
+                _try(
+                    planes,
+                    costs,
+                    views,
+                    side,
+                    y,
+                    x,
+                    0.0,
+                    0.0,
+                    initial[y, x],
+                    low,
+                    high,
+                    radius,
+                    stride,
+                    weight_table,
+                    alpha,
+                    tau_colour,
+                    tau_gradient,
+                    census_table,
+                )
 
 
 @njit(cache=True, nogil=True)
-def _refine(planes, costs, views, side, y, x, step, low, high, min_normal_z, radius, stride,
-            weight_table, alpha, tau_colour, tau_gradient, census_table):
+def _refine(
+    planes,
+    costs,
+    views,
+    side,
+    y,
+    x,
+    step,
+    low,
+    high,
+    min_normal_z,
+    radius,
+    stride,
+    weight_table,
+    alpha,
+    tau_colour,
+    tau_gradient,
+    census_table,
+):
     # Perturb the best plane's centre disparity and normal within ranges halved each try,
     # from half the disparity range down to a tenth of a pixel.
     a, b, c = planes[y, x, 0], planes[y, x, 1], planes[y, x, 2]
@@ -154,20 +287,53 @@ def _refine(planes, costs, views, side, y, x, step, low, high, min_normal_z, rad
         ny = -b * scale + normal_range * (2.0 * _uniform(y, x, step, draw + 1) - 1.0)
         nz = scale + normal_range * (2.0 * _uniform(y, x, step, draw + 2) - 1.0)
         norm = np.sqrt(nx * nx + ny * ny + nz * nz)
-        disparity = (a * x + b * y + c
-                     + disparity_range * (2.0 * _uniform(y, x, step, draw + 3) - 1.0))
+        disparity = (
+            a * x + b * y + c + disparity_range * (2.0 * _uniform(y, x, step, draw + 3) - 1.0)
+        )
         draw += 4
         if norm > 0.0 and nz / norm >= min_normal_z:
             na, nb, nc = _plane_from_normal(y, x, disparity, nx / norm, ny / norm, nz / norm)
-            _try(planes, costs, views, side, y, x, na, nb, nc, low, high, radius, stride,
-                 weight_table, alpha, tau_colour, tau_gradient, census_table)
+            _try(
+                planes,
+                costs,
+                views,
+                side,
+                y,
+                x,
+                na,
+                nb,
+                nc,
+                low,
+                high,
+                radius,
+                stride,
+                weight_table,
+                alpha,
+                tau_colour,
+                tau_gradient,
+                census_table,
+            )
         disparity_range *= 0.5
         normal_range *= 0.5
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _sweep_rows(planes, costs, views, side, forward, low, high, radius, stride, weight_table,
-                alpha, tau_colour, tau_gradient, census_table):
+def _sweep_rows(
+    planes,
+    costs,
+    views,
+    side,
+    forward,
+    low,
+    high,
+    radius,
+    stride,
+    weight_table,
+    alpha,
+    tau_colour,
+    tau_gradient,
+    census_table,
+):
     # each row in parallel, its pixels in sweep order: the previous pixel's plane
     rows, cols = costs.shape
     dx = 1 if forward else -1
@@ -175,14 +341,47 @@ def _sweep_rows(planes, costs, views, side, forward, low, high, radius, stride, 
         x = 0 if forward else cols - 1
         for _ in range(cols - 1):
             x += dx
-            _try(planes, costs, views, side, y, x, planes[y, x - dx, 0], planes[y, x - dx, 1],
-                 planes[y, x - dx, 2], low, high, radius, stride, weight_table, alpha, tau_colour,
-                 tau_gradient, census_table)
+            _try(
+                planes,
+                costs,
+                views,
+                side,
+                y,
+                x,
+                planes[y, x - dx, 0],
+                planes[y, x - dx, 1],
+                planes[y, x - dx, 2],
+                low,
+                high,
+                radius,
+                stride,
+                weight_table,
+                alpha,
+                tau_colour,
+                tau_gradient,
+                census_table,
+            )
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _sweep_columns(planes, costs, views, side, forward, step, low, high, min_normal_z, radius,
-                   stride, weight_table, alpha, tau_colour, tau_gradient, census_table):
+def _sweep_columns(
+    planes,
+    costs,
+    views,
+    side,
+    forward,
+    step,
+    low,
+    high,
+    min_normal_z,
+    radius,
+    stride,
+    weight_table,
+    alpha,
+    tau_colour,
+    tau_gradient,
+    census_table,
+):
     # each column in parallel, its pixels in sweep order: the previous pixel's plane, then
     # the refinement
     rows, cols = costs.shape
@@ -191,17 +390,65 @@ def _sweep_columns(planes, costs, views, side, forward, step, low, high, min_nor
         y = 0 if forward else rows - 1
         for i in range(rows):
             if i > 0:
-                _try(planes, costs, views, side, y, x, planes[y - dy, x, 0], planes[y - dy, x, 1],
-                     planes[y - dy, x, 2], low, high, radius, stride, weight_table, alpha,
-                     tau_colour, tau_gradient, census_table)
-            _refine(planes, costs, views, side, y, x, step, low, high, min_normal_z, radius,
-                    stride, weight_table, alpha, tau_colour, tau_gradient, census_table)
+                _try(
+                    planes,
+                    costs,
+                    views,
+                    side,
+                    y,
+                    x,
+                    planes[y - dy, x, 0],
+                    planes[y - dy, x, 1],
+                    planes[y - dy, x, 2],
+                    low,
+                    high,
+                    radius,
+                    stride,
+                    weight_table,
+                    alpha,
+                    tau_colour,
+                    tau_gradient,
+                    census_table,
+                )
+            _refine(
+                planes,
+                costs,
+                views,
+                side,
+                y,
+                x,
+                step,
+                low,
+                high,
+                min_normal_z,
+                radius,
+                stride,
+                weight_table,
+                alpha,
+                tau_colour,
+                tau_gradient,
+                census_table,
+            )
             y += dy
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _view_propagation(source, planes, costs, views, side, low, high, radius, stride, weight_table,
-                      alpha, tau_colour, tau_gradient, census_table):
+def _view_propagation(
+    source,
+    planes,
+    costs,
+    views,
+    side,
+    low,
+    high,
+    radius,
+    stride,
+    weight_table,
+    alpha,
+    tau_colour,
+    tau_gradient,
+    census_table,
+):
     # Each source pixel's plane, seen from the other view, is a candidate at its match.
     # Writes stay on the source pixel's row, visited in order.
     rows, cols = costs.shape
@@ -215,8 +462,26 @@ def _view_propagation(source, planes, costs, views, side, low, high, radius, str
             match = int(np.rint(x - side * (a * x + b * y + c)))
             if match < 0 or match >= cols:
                 continue
-            _try(planes, costs, views, side, y, match, a / scale, b / scale, c / scale, low, high,
-                 radius, stride, weight_table, alpha, tau_colour, tau_gradient, census_table)
+            _try(
+                planes,
+                costs,
+                views,
+                side,
+                y,
+                match,
+                a / scale,
+                b / scale,
+                c / scale,
+                low,
+                high,
+                radius,
+                stride,
+                weight_table,
+                alpha,
+                tau_colour,
+                tau_gradient,
+                census_table,
+            )
 
 
 def plane_disparity(planes: np.ndarray) -> np.ndarray:
@@ -236,13 +501,24 @@ def plane_disparity(planes: np.ndarray) -> np.ndarray:
     return (planes[..., 0] * x + planes[..., 1] * y + planes[..., 2]).astype(np.float32)
 
 
-def patchmatch_planes(left: np.ndarray, right: np.ndarray, *, min_disparity: float,
-                      max_disparity: float, iterations: int = 3, radius: int = 18,
-                      stride: int = 3, gamma: float = 10.0, alpha: float = 0.9,
-                      tau_colour: float = 10.0, tau_gradient: float = 2.0,
-                      census_weight: float = 1.0, census_saturation: float = 32.0,
-                      max_slant: float = 45.0, initial: tuple[np.ndarray, np.ndarray] | None = None
-                      ) -> tuple[np.ndarray, np.ndarray]:
+def patchmatch_planes(
+    left: np.ndarray,
+    right: np.ndarray,
+    *,
+    min_disparity: float,
+    max_disparity: float,
+    iterations: int = 3,
+    radius: int = 18,
+    stride: int = 3,
+    gamma: float = 10.0,
+    alpha: float = 0.9,
+    tau_colour: float = 10.0,
+    tau_gradient: float = 2.0,
+    census_weight: float = 1.0,
+    census_saturation: float = 32.0,
+    max_slant: float = 45.0,
+    initial: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
     """Disparity planes of both views of a rectified pair by PatchMatch stereo.
 
     Parameters
@@ -304,24 +580,36 @@ def patchmatch_planes(left: np.ndarray, right: np.ndarray, *, min_disparity: flo
     neighbours' planes rather than their values scored worse on five of the seven
     pairs (Venus 0.81 to 1.60), so the fill takes values as for the other methods.
     """
-    left, right = check_pair(left, right, min_disparity=min_disparity,
-                             max_disparity=max_disparity)
+    left, right = check_pair(left, right, min_disparity=min_disparity, max_disparity=max_disparity)
     if iterations < 1 or radius < 0 or stride < 1:
-        raise ValueError(f"iterations and stride must be positive and radius non-negative, got "
-                         f"{iterations}, {stride} and {radius}")
+        raise ValueError(
+            f"iterations and stride must be positive and radius non-negative, got "
+            f"{iterations}, {stride} and {radius}"
+        )
     if not 0.0 <= max_slant < 90.0:
         raise ValueError(f"max_slant must be in [0, 90) degrees, got {max_slant}")
     # integer-valued floats, for the colour weight table
     colours = [as_colour(view).astype(np.float32) for view in (left, right)]
-    images = [np.ascontiguousarray(np.dstack([colour, np.gradient(colour.mean(axis=2), axis=1)]),
-                                   np.float32) for colour in colours]
+    images = [
+        np.ascontiguousarray(
+            np.dstack([colour, np.gradient(colour.mean(axis=2), axis=1)]), np.float32
+        )
+        for colour in colours
+    ]
     largest = int(max(colours[0].max(), colours[1].max(), 0))
     weight_table = np.exp(-np.arange(3 * largest + 1) / gamma)
     min_normal_z = float(np.cos(np.radians(max_slant)))
     low, high = float(min_disparity), float(max_disparity)
     census_table = census_weight * np.minimum(np.arange(65) / census_saturation, 1.0)
-    options = (int(radius), int(stride), weight_table, float(alpha), float(tau_colour),
-               float(tau_gradient), census_table)
+    options = (
+        int(radius),
+        int(stride),
+        weight_table,
+        float(alpha),
+        float(tau_colour),
+        float(tau_gradient),
+        census_table,
+    )
     rows, cols = left.shape[:2]
     planes = [np.empty((rows, cols, 3)) for _ in range(2)]
     costs = [np.empty((rows, cols)) for _ in range(2)]
@@ -333,17 +621,43 @@ def patchmatch_planes(left: np.ndarray, right: np.ndarray, *, min_disparity: flo
     elif len(initial) != 2 or any(np.shape(start) != (rows, cols) for start in initial):
         raise ValueError(f"initial must be two ({rows}, {cols}) disparity maps")
     for v in range(2):
-        _initialise(planes[v], costs[v], views[v], sides[v],
-                    np.ascontiguousarray(initial[v], np.float64), low, high, v, *options,
-                    min_normal_z)
+        _initialise(
+            planes[v],
+            costs[v],
+            views[v],
+            sides[v],
+            np.ascontiguousarray(initial[v], np.float64),
+            low,
+            high,
+            v,
+            *options,
+            min_normal_z,
+        )
     for iteration in range(iterations):
         forward = iteration % 2 == 0
         for v in range(2):
             step = 2 + 2 * iteration + v
             _sweep_rows(planes[v], costs[v], views[v], sides[v], forward, low, high, *options)
-            _sweep_columns(planes[v], costs[v], views[v], sides[v], forward, step, low, high,
-                           min_normal_z, *options)
-            _view_propagation(planes[v], planes[1 - v], costs[1 - v], views[1 - v], sides[1 - v],
-                              low, high, *options)
+            _sweep_columns(
+                planes[v],
+                costs[v],
+                views[v],
+                sides[v],
+                forward,
+                step,
+                low,
+                high,
+                min_normal_z,
+                *options,
+            )
+            _view_propagation(
+                planes[v],
+                planes[1 - v],
+                costs[1 - v],
+                views[1 - v],
+                sides[1 - v],
+                low,
+                high,
+                *options,
+            )
     return planes[0], planes[1]
-

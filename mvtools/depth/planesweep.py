@@ -47,8 +47,9 @@ class PlaneSweep(NamedTuple):
     seen: np.ndarray
 
 
-def sweep_homographies(center: Camera, neighbour: Camera, inverse_depths, *,
-                       depth_type: int = 0) -> np.ndarray:
+def sweep_homographies(
+    center: Camera, neighbour: Camera, inverse_depths, *, depth_type: int = 0
+) -> np.ndarray:
     """Homographies from center pixels to neighbour pixels, one per plane.
 
     Parameters
@@ -82,12 +83,22 @@ def sweep_homographies(center: Camera, neighbour: Camera, inverse_depths, *,
     raise ValueError(f"depth_type must be 0 or 1, got {depth_type!r}")
 
 
-def plane_sweep_cost(center: np.ndarray, neighbours: Sequence[np.ndarray],
-                     center_camera: Camera, neighbour_cameras: Sequence[Camera],
-                     inverse_depths, *, depth_type: int = 0, precision: tuple[int, int] = (4, 1),
-                     filter: str = "cubic", block: int = 1, census_window: tuple[int, int] = (7, 9),
-                     lambda_census: float = 30.0, lambda_colour: float = 20.0,
-                     outside_cost: float = 0.7) -> PlaneSweep:
+def plane_sweep_cost(
+    center: np.ndarray,
+    neighbours: Sequence[np.ndarray],
+    center_camera: Camera,
+    neighbour_cameras: Sequence[Camera],
+    inverse_depths,
+    *,
+    depth_type: int = 0,
+    precision: tuple[int, int] = (4, 1),
+    filter: str = "cubic",
+    block: int = 1,
+    census_window: tuple[int, int] = (7, 9),
+    lambda_census: float = 30.0,
+    lambda_colour: float = 20.0,
+    outside_cost: float = 0.7,
+) -> PlaneSweep:
     """AD-census plane-sweep cost volume of ``center`` against its neighbours.
 
     Parameters
@@ -137,8 +148,7 @@ def plane_sweep_cost(center: np.ndarray, neighbours: Sequence[np.ndarray],
     if len(neighbours) == 0:
         raise ValueError("plane sweeping needs at least one neighbour view")
     if len(neighbours) != len(neighbour_cameras):
-        raise ValueError(f"{len(neighbours)} neighbour views but {len(neighbour_cameras)} "
-                         "cameras")
+        raise ValueError(f"{len(neighbours)} neighbour views but {len(neighbour_cameras)} cameras")
     if filter not in _FILTERS:
         raise ValueError(f"filter must be one of {sorted(_FILTERS)}, got {filter!r}")
     if len(precision) != 2 or not all(isinstance(p, int) and p >= 1 for p in precision):
@@ -156,30 +166,51 @@ def plane_sweep_cost(center: np.ndarray, neighbours: Sequence[np.ndarray],
     for image, camera in zip(neighbours, neighbour_cameras):
         image = np.ascontiguousarray(image, np.float32)
         if image.ndim != 3 or image.shape[2] != 3:
-            raise ValueError(f"neighbour {camera.name!r} must be an (H, W, 3) image, got "
-                             f"shape {image.shape}")
+            raise ValueError(
+                f"neighbour {camera.name!r} must be an (H, W, 3) image, got shape {image.shape}"
+            )
         homographies = sweep_homographies(center_camera, camera, inverse, depth_type=depth_type)
         census = _shifted_census(image.mean(axis=2), precision, _FILTERS[filter], census_window)
         if block == 1:
-            _sweep_neighbour(center_census, center, census, image, homographies, census_table,
-                             np.float32(1.0 / (3.0 * lambda_colour)), cost, seen)
+            _sweep_neighbour(
+                center_census,
+                center,
+                census,
+                image,
+                homographies,
+                census_table,
+                np.float32(1.0 / (3.0 * lambda_colour)),
+                cost,
+                seen,
+            )
         else:
             own = np.full_like(cost, outside_cost)
             own_seen = np.zeros_like(seen)
-            _sweep_neighbour(center_census, center, census, image, homographies, census_table,
-                             np.float32(1.0 / (3.0 * lambda_colour)), own, own_seen)
+            _sweep_neighbour(
+                center_census,
+                center,
+                census,
+                image,
+                homographies,
+                census_table,
+                np.float32(1.0 / (3.0 * lambda_colour)),
+                own,
+                own_seen,
+            )
             # 3x3 means per plane (cv2 filters up to 512 channels at once)
             for first in range(0, inverse.size, 512):
-                own[..., first:first + 512] = cv2.blur(own[..., first:first + 512], (3, 3),
-                                                       borderType=cv2.BORDER_REPLICATE)
+                own[..., first : first + 512] = cv2.blur(
+                    own[..., first : first + 512], (3, 3), borderType=cv2.BORDER_REPLICATE
+                )
             better = own_seen & (~seen | (own < cost))
             cost[better] = own[better]
             seen |= own_seen
     return PlaneSweep(cost, seen)
 
 
-def _shifted_census(grey: np.ndarray, precision: tuple[int, int], interpolation: int,
-                    window: tuple[int, int]) -> np.ndarray:
+def _shifted_census(
+    grey: np.ndarray, precision: tuple[int, int], interpolation: int, window: tuple[int, int]
+) -> np.ndarray:
     """Census signatures at sub-pixel positions: ``[j, i, y, x]`` is the signature at
     ``(x + i / precision[0], y + j / precision[1])``, shape (P_v, P_h, H, W)."""
     steps_x, steps_y = precision
@@ -188,16 +219,21 @@ def _shifted_census(grey: np.ndarray, precision: tuple[int, int], interpolation:
         for i in range(steps_x):
             # WARP_INVERSE_MAP: shifted(x, y) = grey(x + i / P_h, y + j / P_v)
             shift = np.array([[1.0, 0.0, i / steps_x], [0.0, 1.0, j / steps_y]])
-            shifted = cv2.warpAffine(grey, shift, grey.shape[::-1],
-                                     flags=interpolation | cv2.WARP_INVERSE_MAP,
-                                     borderMode=cv2.BORDER_REPLICATE)
+            shifted = cv2.warpAffine(
+                grey,
+                shift,
+                grey.shape[::-1],
+                flags=interpolation | cv2.WARP_INVERSE_MAP,
+                borderMode=cv2.BORDER_REPLICATE,
+            )
             signatures[j, i] = census_transform(shifted, window=window)
     return signatures
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _sweep_neighbour(center_census, center, census, image, homographies, census_table,
-                     colour_scale, cost, seen):
+def _sweep_neighbour(
+    center_census, center, census, image, homographies, census_table, colour_scale, cost, seen
+):
     # One pass per neighbour, planes innermost: the volume is written in memory order.
     rows, cols = center_census.shape
     steps_y, steps_x, height, width = census.shape
@@ -226,10 +262,14 @@ def _sweep_neighbour(center_census, center, census, image, homographies, census_
                 # census at the nearest sub-pixel position, clamped to the picture
                 column = min(max(int(np.rint(u * steps_x)), 0), (width - 1) * steps_x)
                 row = min(max(int(np.rint(v * steps_y)), 0), (height - 1) * steps_y)
-                signature = census[row % steps_y, column % steps_x, row // steps_y,
-                                   column // steps_x]
-                value = (census_table[popcount(center_census[y, x] ^ signature)]
-                         + np.float32(1.0) - np.float32(np.exp(-colour * colour_scale)))
+                signature = census[
+                    row % steps_y, column % steps_x, row // steps_y, column // steps_x
+                ]
+                value = (
+                    census_table[popcount(center_census[y, x] ^ signature)]
+                    + np.float32(1.0)
+                    - np.float32(np.exp(-colour * colour_scale))
+                )
                 if not seen[y, x, k] or value < cost[y, x, k]:
                     cost[y, x, k] = value
                     seen[y, x, k] = True

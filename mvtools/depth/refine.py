@@ -10,13 +10,27 @@ from numba import njit, prange
 from mvtools.depth.cost import as_colour
 from mvtools.depth.segment import fill_from_planes
 
-__all__ = ["clean_up", "left_right_consistent", "fill_from_background", "median_smooth", "refine_subpixel",
-           "weighted_median", "near_depth_edges"]
+__all__ = [
+    "clean_up",
+    "fill_from_background",
+    "left_right_consistent",
+    "median_smooth",
+    "near_depth_edges",
+    "refine_subpixel",
+    "weighted_median",
+]
 
 
-def clean_up(disparity_left: np.ndarray, disparity_right: np.ndarray, left: np.ndarray, *,
-             median_radius: int = 5, median_sigma: float = 20.0,
-             median_size: int = 3, segments: np.ndarray | None = None) -> np.ndarray:
+def clean_up(
+    disparity_left: np.ndarray,
+    disparity_right: np.ndarray,
+    left: np.ndarray,
+    *,
+    median_radius: int = 5,
+    median_sigma: float = 20.0,
+    median_size: int = 3,
+    segments: np.ndarray | None = None,
+) -> np.ndarray:
     """Left-right check, background fill of the rejected pixels, then a colour-weighted
     median on them and around depth edges, where matchers err, and a plain median.
     With ``segments``, rejected pixels of segments that a disparity plane explains
@@ -53,13 +67,15 @@ def clean_up(disparity_left: np.ndarray, disparity_right: np.ndarray, left: np.n
         disparity_left, valid = fill_from_planes(disparity_left, valid, segments)
     filled = fill_from_background(disparity_left, valid)
     doubtful = ~valid | near_depth_edges(filled)
-    snapped = weighted_median(filled, left, radius=median_radius, sigma_colour=median_sigma,
-                              where=doubtful)
+    snapped = weighted_median(
+        filled, left, radius=median_radius, sigma_colour=median_sigma, where=doubtful
+    )
     return median_smooth(snapped, size=median_size)
 
 
-def left_right_consistent(left: np.ndarray, right: np.ndarray, *,
-                          tolerance: float = 1.0) -> np.ndarray:
+def left_right_consistent(
+    left: np.ndarray, right: np.ndarray, *, tolerance: float = 1.0
+) -> np.ndarray:
     """Pixels of the left map whose match in the right view agrees with them.
 
     Parameters
@@ -100,10 +116,10 @@ def fill_from_background(disparity: np.ndarray, valid: np.ndarray) -> np.ndarray
     next_right = np.minimum.accumulate(np.where(valid, columns, cols)[:, ::-1], axis=1)[:, ::-1]
     values = np.asarray(disparity, np.float32)
     row_index = np.arange(rows)[:, None]
-    from_left = np.where(last_left >= 0, values[row_index, np.clip(last_left, 0, cols - 1)],
-                         np.inf)
-    from_right = np.where(next_right < cols,
-                          values[row_index, np.clip(next_right, 0, cols - 1)], np.inf)
+    from_left = np.where(last_left >= 0, values[row_index, np.clip(last_left, 0, cols - 1)], np.inf)
+    from_right = np.where(
+        next_right < cols, values[row_index, np.clip(next_right, 0, cols - 1)], np.inf
+    )
     nearest = np.minimum(from_left, from_right)
     nearest[np.isinf(nearest)] = np.nan
     return np.where(valid, values, nearest).astype(np.float32)
@@ -144,8 +160,14 @@ def _ssd_subpixel(disparity, left, right, radius, residual):
     return refined
 
 
-def refine_subpixel(disparity: np.ndarray, left: np.ndarray, right: np.ndarray, *,
-                    radius: int = 2, residual: float = 0.15) -> np.ndarray:
+def refine_subpixel(
+    disparity: np.ndarray,
+    left: np.ndarray,
+    right: np.ndarray,
+    *,
+    radius: int = 2,
+    residual: float = 0.15,
+) -> np.ndarray:
     """Sub-pixel disparities from a parabola through the windowed squared differences
     at the nearest integer disparity and its two neighbours.
 
@@ -175,10 +197,13 @@ def refine_subpixel(disparity: np.ndarray, left: np.ndarray, right: np.ndarray, 
         mismatched windows, where the fit is noise). An exact match (zero squared
         difference) stays an integer.
     """
-    return _ssd_subpixel(np.ascontiguousarray(disparity, np.float32),
-                         np.ascontiguousarray(left, np.float32),
-                         np.ascontiguousarray(right, np.float32), int(radius),
-                         float(residual))
+    return _ssd_subpixel(
+        np.ascontiguousarray(disparity, np.float32),
+        np.ascontiguousarray(left, np.float32),
+        np.ascontiguousarray(right, np.float32),
+        int(radius),
+        float(residual),
+    )
 
 
 @njit(cache=True, nogil=True, parallel=True)
@@ -201,8 +226,11 @@ def _weighted_median(disparity, bin_index, guide, where, radius, weight_table, b
                     b = bin_index[wy, wx]
                     if b < 0:
                         continue
-                    weight = weight_table[abs(guide[wy, wx, 0] - red) + abs(guide[wy, wx, 1] - green)
-                                          + abs(guide[wy, wx, 2] - blue)]
+                    weight = weight_table[
+                        abs(guide[wy, wx, 0] - red)
+                        + abs(guide[wy, wx, 1] - green)
+                        + abs(guide[wy, wx, 2] - blue)
+                    ]
                     weights[b] += weight
                     sums[b] += weight * disparity[wy, wx]
                     total += weight
@@ -218,9 +246,15 @@ def _weighted_median(disparity, bin_index, guide, where, radius, weight_table, b
     return result
 
 
-def weighted_median(disparity: np.ndarray, guide: np.ndarray, *, radius: int = 4,
-                    sigma_colour: float = 20.0, step: float = 0.25,
-                    where: np.ndarray | None = None) -> np.ndarray:
+def weighted_median(
+    disparity: np.ndarray,
+    guide: np.ndarray,
+    *,
+    radius: int = 4,
+    sigma_colour: float = 20.0,
+    step: float = 0.25,
+    where: np.ndarray | None = None,
+) -> np.ndarray:
     """Colour-weighted median of the disparities around each pixel (Ma et al. 2013):
     neighbours of similar colour, likely on the same surface, outvote the others, so
     depth edges snap to colour edges.

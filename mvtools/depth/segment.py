@@ -12,8 +12,15 @@ from numba import njit, prange
 
 from mvtools.depth.cost import as_colour
 
-__all__ = ["segment_image", "plane_segments", "fit_segment_planes", "plane_disparity", "fill_from_planes",
-           "select_segment_planes", "trim_fattening"]
+__all__ = [
+    "fill_from_planes",
+    "fit_segment_planes",
+    "plane_disparity",
+    "plane_segments",
+    "segment_image",
+    "select_segment_planes",
+    "trim_fattening",
+]
 
 
 @njit(cache=True, nogil=True)
@@ -60,8 +67,9 @@ def _felzenszwalb(first, second, weight, order, pixels, scale, min_size):
     return labels
 
 
-def segment_image(image: np.ndarray, *, scale: float = 300.0, min_size: int = 40,
-                  sigma: float = 0.8) -> np.ndarray:
+def segment_image(
+    image: np.ndarray, *, scale: float = 300.0, min_size: int = 40, sigma: float = 0.8
+) -> np.ndarray:
     """Over-segmentation by Felzenszwalb and Huttenlocher's graph-based merging.
 
     Pixels are nodes of an 8-connected graph weighted by Euclidean colour distance;
@@ -89,23 +97,29 @@ def segment_image(image: np.ndarray, *, scale: float = 300.0, min_size: int = 40
     if image.ndim not in (2, 3) or (image.ndim == 3 and image.shape[2] != 3):
         raise ValueError(f"image must be (H, W) or (H, W, 3), got {image.shape}")
     if scale <= 0 or min_size < 1 or sigma < 0:
-        raise ValueError(f"need scale > 0, min_size >= 1, sigma >= 0, got {scale}, "
-                         f"{min_size}, {sigma}")
+        raise ValueError(
+            f"need scale > 0, min_size >= 1, sigma >= 0, got {scale}, {min_size}, {sigma}"
+        )
     colour = image[:, :, None] if image.ndim == 2 else image
     if sigma > 0:
         colour = cv2.GaussianBlur(colour, (0, 0), sigma).reshape(colour.shape)
     rows, cols = colour.shape[:2]
     index = np.arange(rows * cols).reshape(rows, cols)
     # right, down, down-right and down-left neighbours: each 8-connected edge once
-    pairs = [(index[:, :-1], index[:, 1:]), (index[:-1, :], index[1:, :]),
-             (index[:-1, :-1], index[1:, 1:]), (index[:-1, 1:], index[1:, :-1])]
+    pairs = [
+        (index[:, :-1], index[:, 1:]),
+        (index[:-1, :], index[1:, :]),
+        (index[:-1, :-1], index[1:, 1:]),
+        (index[:-1, 1:], index[1:, :-1]),
+    ]
     first = np.concatenate([a.ravel() for a, _ in pairs])
     second = np.concatenate([b.ravel() for _, b in pairs])
     flat = colour.reshape(rows * cols, -1)
     weight = np.sqrt(((flat[first] - flat[second]) ** 2).sum(axis=1))
     order = np.argsort(weight, kind="stable")
-    return _felzenszwalb(first, second, weight, order, rows * cols, float(scale),
-                         int(min_size)).reshape(rows, cols)
+    return _felzenszwalb(
+        first, second, weight, order, rows * cols, float(scale), int(min_size)
+    ).reshape(rows, cols)
 
 
 def plane_segments(view: np.ndarray) -> np.ndarray:
@@ -188,8 +202,9 @@ def _least_squares_plane(xs, ys, ds, a, b, c, tolerance):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _fit_planes(order_by_row, order_by_column, starts, disparity, cols, max_slope, tolerance,
-                max_pairs):
+def _fit_planes(
+    order_by_row, order_by_column, starts, disparity, cols, max_slope, tolerance, max_pairs
+):
     segments = starts.size - 1
     planes = np.zeros((segments, 3), np.float64)
     inliers = np.zeros(segments, np.int64)
@@ -204,9 +219,15 @@ def _fit_planes(order_by_row, order_by_column, starts, disparity, cols, max_slop
         ys = (rows_sorted // cols).astype(np.float64)
         ds = disparity[rows_sorted]
         a = _median_slope(xs, ys, ds, 0, stop - start, max_slope, buffer)
-        b = _median_slope((columns_sorted // cols).astype(np.float64),
-                          (columns_sorted % cols).astype(np.float64),
-                          disparity[columns_sorted], 0, stop - start, max_slope, buffer)
+        b = _median_slope(
+            (columns_sorted // cols).astype(np.float64),
+            (columns_sorted % cols).astype(np.float64),
+            disparity[columns_sorted],
+            0,
+            stop - start,
+            max_slope,
+            buffer,
+        )
         c = np.median(ds - a * xs - b * ys)
         n = 0
         for _ in range(3):
@@ -216,9 +237,15 @@ def _fit_planes(order_by_row, order_by_column, starts, disparity, cols, max_slop
     return planes, inliers
 
 
-def fit_segment_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray, *,
-                       tolerance: float = 1.0, max_slope: float = 1.0,
-                       max_pairs: int = 200_000) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def fit_segment_planes(
+    disparity: np.ndarray,
+    valid: np.ndarray,
+    labels: np.ndarray,
+    *,
+    tolerance: float = 1.0,
+    max_slope: float = 1.0,
+    max_pairs: int = 200_000,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Robust disparity plane ``d = a x + b y + c`` of every segment.
 
     Klaus et al.'s decomposed estimate: the horizontal slope is the median of the
@@ -256,14 +283,16 @@ def fit_segment_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndar
     valid = np.asarray(valid, bool)
     labels = np.asarray(labels, np.int64)
     if disparity.ndim != 2 or valid.shape != disparity.shape or labels.shape != disparity.shape:
-        raise ValueError(f"disparity, valid and labels must be (H, W) arrays of one shape, "
-                         f"got {disparity.shape}, {valid.shape}, {labels.shape}")
+        raise ValueError(
+            f"disparity, valid and labels must be (H, W) arrays of one shape, "
+            f"got {disparity.shape}, {valid.shape}, {labels.shape}"
+        )
     if tolerance <= 0 or max_slope <= 0 or max_pairs < 1:
         raise ValueError("tolerance, max_slope and max_pairs must be positive")
     segments = int(labels.max()) + 1 if labels.size else 0
     if labels.size and labels.min() < 0:
         raise ValueError("segment labels must be non-negative")
-    rows, cols = disparity.shape
+    _rows, cols = disparity.shape
     usable = valid & np.isfinite(disparity)
     flat = np.flatnonzero(usable.ravel())
     segment_of = labels.ravel()[flat]
@@ -272,8 +301,16 @@ def fit_segment_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndar
     by_column = flat[np.lexsort((flat // cols, flat % cols, segment_of))]
     support = np.bincount(segment_of, minlength=segments).astype(np.int64)
     starts = np.concatenate([[0], np.cumsum(support)]).astype(np.int64)
-    planes, inliers = _fit_planes(by_row, by_column, starts, disparity.ravel(), cols,
-                                  float(max_slope), float(tolerance), int(max_pairs))
+    planes, inliers = _fit_planes(
+        by_row,
+        by_column,
+        starts,
+        disparity.ravel(),
+        cols,
+        float(max_slope),
+        float(tolerance),
+        int(max_pairs),
+    )
     return planes, inliers, support
 
 
@@ -302,19 +339,24 @@ def _trusted_planes(disparity, valid, labels, min_support, min_inliers, toleranc
     # A segment's plane is trusted when enough of its pixels are valid and enough of
     # those lie on it; at least 3 valid pixels: fewer leave the plane undetermined.
     if not (0 <= min_support <= 1 and 0 <= min_inliers <= 1):
-        raise ValueError(f"min_support and min_inliers are fractions in [0, 1], got "
-                         f"{min_support}, {min_inliers}")
-    planes, inliers, support = fit_segment_planes(disparity, valid, labels,
-                                                  tolerance=tolerance)
+        raise ValueError(
+            f"min_support and min_inliers are fractions in [0, 1], got {min_support}, {min_inliers}"
+        )
+    planes, inliers, support = fit_segment_planes(disparity, valid, labels, tolerance=tolerance)
     size = np.bincount(np.asarray(labels, np.int64).ravel(), minlength=support.size)
-    trusted = ((support >= np.maximum(min_support * size, 3))
-               & (inliers >= min_inliers * support))
+    trusted = (support >= np.maximum(min_support * size, 3)) & (inliers >= min_inliers * support)
     return planes, trusted
 
 
-def fill_from_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray, *,
-                     min_support: float = 0.5, min_inliers: float = 0.6,
-                     tolerance: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def fill_from_planes(
+    disparity: np.ndarray,
+    valid: np.ndarray,
+    labels: np.ndarray,
+    *,
+    min_support: float = 0.5,
+    min_inliers: float = 0.6,
+    tolerance: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray]:
     """Invalid pixels of well-explained segments take their segment's plane.
 
     A segment's plane (:func:`fit_segment_planes`) is trusted when at least
@@ -341,8 +383,7 @@ def fill_from_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarra
     disparity : ndarray of float32, shape (H, W)
     valid : ndarray of bool, shape (H, W)
     """
-    planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers,
-                                      tolerance)
+    planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers, tolerance)
     replace = trusted[labels] & ~np.asarray(valid, bool)
     filled = np.where(replace, plane_disparity(planes, labels), disparity)
     return filled.astype(np.float32), valid | replace
@@ -362,11 +403,14 @@ def _window_cost(cost, guide, y, x, level, radius, weight_table, outside):
     weights = 0.0
     for wy in range(max(0, y - radius), min(rows, y + radius + 1)):
         for wx in range(max(0, x - radius), min(cols, x + radius + 1)):
-            weight = weight_table[abs(guide[wy, wx, 0] - guide[y, x, 0])
-                                  + abs(guide[wy, wx, 1] - guide[y, x, 1])
-                                  + abs(guide[wy, wx, 2] - guide[y, x, 2])]
-            total += weight * ((1.0 - fraction) * cost[wy, wx, below]
-                               + fraction * cost[wy, wx, above])
+            weight = weight_table[
+                abs(guide[wy, wx, 0] - guide[y, x, 0])
+                + abs(guide[wy, wx, 1] - guide[y, x, 1])
+                + abs(guide[wy, wx, 2] - guide[y, x, 2])
+            ]
+            total += weight * (
+                (1.0 - fraction) * cost[wy, wx, below] + fraction * cost[wy, wx, above]
+            )
             weights += weight
     return total / weights
 
@@ -377,8 +421,16 @@ def _window_costs(cost, guide, pixels, levels, radius, weight_table, outside):
     cols = guide.shape[1]
     costs = np.empty(pixels.size, np.float64)
     for i in prange(pixels.size):
-        costs[i] = _window_cost(cost, guide, pixels[i] // cols, pixels[i] % cols, levels[i],
-                                radius, weight_table, outside)
+        costs[i] = _window_cost(
+            cost,
+            guide,
+            pixels[i] // cols,
+            pixels[i] % cols,
+            levels[i],
+            radius,
+            weight_table,
+            outside,
+        )
     return costs
 
 
@@ -387,13 +439,15 @@ class _WindowCost:
     # measure both plane tests compare.
     def __init__(self, cost, guide, min_disparity, radius, sigma_colour):
         cost = np.ascontiguousarray(cost, np.float32)
-        if (cost.ndim != 3 or np.ndim(guide) not in (2, 3)
-                or cost.shape[:2] != np.shape(guide)[:2]):
-            raise ValueError(f"cost must be an (H, W, D) volume over the guide's pixels, got "
-                             f"{cost.shape} and {np.shape(guide)}")
+        if cost.ndim != 3 or np.ndim(guide) not in (2, 3) or cost.shape[:2] != np.shape(guide)[:2]:
+            raise ValueError(
+                f"cost must be an (H, W, D) volume over the guide's pixels, got "
+                f"{cost.shape} and {np.shape(guide)}"
+            )
         if radius < 0 or sigma_colour <= 0:
-            raise ValueError(f"need radius >= 0 and sigma_colour > 0, got {radius} and "
-                             f"{sigma_colour}")
+            raise ValueError(
+                f"need radius >= 0 and sigma_colour > 0, got {radius} and {sigma_colour}"
+            )
         self.colour = as_colour(guide)
         self.table = np.exp(-np.arange(3 * max(int(self.colour.max()), 0) + 1) / sigma_colour)
         self.cost, self.min_disparity, self.radius = cost, float(min_disparity), int(radius)
@@ -402,16 +456,32 @@ class _WindowCost:
 
     def __call__(self, pixels, disparities):
         # pixels: flat indices; disparities: one per pixel
-        return _window_costs(self.cost, self.colour, np.asarray(pixels, np.int64),
-                             np.asarray(disparities, np.float64) - self.min_disparity,
-                             self.radius, self.table, self.outside)
+        return _window_costs(
+            self.cost,
+            self.colour,
+            np.asarray(pixels, np.int64),
+            np.asarray(disparities, np.float64) - self.min_disparity,
+            self.radius,
+            self.table,
+            self.outside,
+        )
 
 
-def select_segment_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray,
-                          cost: np.ndarray, guide: np.ndarray, *, min_disparity: int = 0,
-                          margin: float = 0.1, radius: int = 2, sigma_colour: float = 20.0,
-                          min_support: float = 0.5, min_inliers: float = 0.6,
-                          tolerance: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def select_segment_planes(
+    disparity: np.ndarray,
+    valid: np.ndarray,
+    labels: np.ndarray,
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    min_disparity: int = 0,
+    margin: float = 0.1,
+    radius: int = 2,
+    sigma_colour: float = 20.0,
+    min_support: float = 0.5,
+    min_inliers: float = 0.6,
+    tolerance: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray]:
     """Segments whose plane matches about as well as their disparities take the plane.
 
     Each trusted plane (as in :func:`fill_from_planes`) is charged the matching cost of
@@ -463,31 +533,45 @@ def select_segment_planes(disparity: np.ndarray, valid: np.ndarray, labels: np.n
         raise ValueError(f"margin must be at least 0, got {margin}")
     window_cost = _WindowCost(cost, guide, min_disparity, radius, sigma_colour)
     if labels.shape != disparity.shape or window_cost.cost.shape[:2] != disparity.shape:
-        raise ValueError(f"cost volume of shape {window_cost.cost.shape} and labels of shape "
-                         f"{labels.shape} do not fit the {disparity.shape} map")
-    planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers,
-                                      tolerance)
+        raise ValueError(
+            f"cost volume of shape {window_cost.cost.shape} and labels of shape "
+            f"{labels.shape} do not fit the {disparity.shape} map"
+        )
+    planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers, tolerance)
     on_planes = plane_disparity(planes, labels)
     # the valid pixels' costs summed per segment, on the plane and as they are
     pixels = np.flatnonzero((valid & np.isfinite(disparity)).ravel())
     segment_of = labels.ravel()[pixels]
     count = planes.shape[0]
-    on_plane = np.bincount(segment_of, window_cost(pixels, on_planes.ravel()[pixels]),
-                           minlength=count)
-    own = np.bincount(segment_of, window_cost(pixels, disparity.ravel()[pixels]),
-                      minlength=count)
+    on_plane = np.bincount(
+        segment_of, window_cost(pixels, on_planes.ravel()[pixels]), minlength=count
+    )
+    own = np.bincount(segment_of, window_cost(pixels, disparity.ravel()[pixels]), minlength=count)
     chosen = trusted & (on_plane <= (1.0 + margin) * own)
     levels = window_cost.cost.shape[2]
-    replace = (chosen[labels] & (on_planes >= min_disparity)
-               & (on_planes <= min_disparity + levels - 1))
+    replace = (
+        chosen[labels] & (on_planes >= min_disparity) & (on_planes <= min_disparity + levels - 1)
+    )
     return np.where(replace, on_planes, disparity).astype(np.float32), valid | replace
 
 
-def trim_fattening(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray,
-                   cost: np.ndarray, guide: np.ndarray, *, min_disparity: int = 0,
-                   margin: float = 1.0, reach: int = 2, jump: float = 1.0, radius: int = 2,
-                   sigma_colour: float = 20.0, min_support: float = 0.5,
-                   min_inliers: float = 0.6, tolerance: float = 1.0) -> np.ndarray:
+def trim_fattening(
+    disparity: np.ndarray,
+    valid: np.ndarray,
+    labels: np.ndarray,
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    min_disparity: int = 0,
+    margin: float = 1.0,
+    reach: int = 2,
+    jump: float = 1.0,
+    radius: int = 2,
+    sigma_colour: float = 20.0,
+    min_support: float = 0.5,
+    min_inliers: float = 0.6,
+    tolerance: float = 1.0,
+) -> np.ndarray:
     """Pixels next to a depth step that stand in front of their segment's plane take it.
 
     Window matchers fatten the foreground: its disparity spills over the background
@@ -526,13 +610,11 @@ def trim_fattening(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray,
     ndarray of float32, shape (H, W)
     """
     if reach < 1 or jump <= 0 or margin < 0:
-        raise ValueError(f"need reach >= 1, jump > 0, margin >= 0, got {reach}, {jump}, "
-                         f"{margin}")
+        raise ValueError(f"need reach >= 1, jump > 0, margin >= 0, got {reach}, {jump}, {margin}")
     disparity = np.asarray(disparity, np.float32)
     valid = np.asarray(valid, bool)
     window_cost = _WindowCost(cost, guide, min_disparity, radius, sigma_colour)
-    planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers,
-                                      tolerance)
+    planes, trusted = _trusted_planes(disparity, valid, labels, min_support, min_inliers, tolerance)
     on_planes = plane_disparity(planes, labels)
     finite = np.ascontiguousarray(np.where(np.isfinite(disparity), disparity, 0.0), np.float32)
     row = np.ones((1, 3), np.uint8)
@@ -540,13 +622,20 @@ def trim_fattening(disparity: np.ndarray, valid: np.ndarray, labels: np.ndarray,
     near = cv2.dilate(step.astype(np.uint8), np.ones((1, 2 * reach + 1), np.uint8)) > 0
     levels = window_cost.cost.shape[2]
     with np.errstate(invalid="ignore"):
-        candidates = np.flatnonzero((trusted[labels] & near & valid
-                                     & (disparity > on_planes + jump)
-                                     & (on_planes >= min_disparity)
-                                     & (on_planes <= min_disparity + levels - 1)).ravel())
+        candidates = np.flatnonzero(
+            (
+                trusted[labels]
+                & near
+                & valid
+                & (disparity > on_planes + jump)
+                & (on_planes >= min_disparity)
+                & (on_planes <= min_disparity + levels - 1)
+            ).ravel()
+        )
     plane_values = on_planes.ravel()[candidates]
-    affordable = (window_cost(candidates, plane_values)
-                  <= (1.0 + margin) * window_cost(candidates, disparity.ravel()[candidates]))
+    affordable = window_cost(candidates, plane_values) <= (1.0 + margin) * window_cost(
+        candidates, disparity.ravel()[candidates]
+    )
     trimmed = disparity.copy()
     trimmed.ravel()[candidates[affordable]] = plane_values[affordable]
     return trimmed

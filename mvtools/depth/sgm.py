@@ -56,8 +56,18 @@ def _aggregate_rows(cost, guide, dx, p1, p2, edge_scale, total):
         _path_start(cost, total, y, x, buffers, 0)
         for i in range(1, cols):
             x += dx
-            _path_step(cost, total, y, x, buffers, (i - 1) % 2, buffers, i % 2, p1,
-                       _edge_penalty(guide, y, x, y, x - dx, p1, p2, edge_scale))
+            _path_step(
+                cost,
+                total,
+                y,
+                x,
+                buffers,
+                (i - 1) % 2,
+                buffers,
+                i % 2,
+                p1,
+                _edge_penalty(guide, y, x, y, x - dx, p1, p2, edge_scale),
+            )
 
 
 #: Fewest path lines per parallel task of :func:`_aggregate_sweep`; tasks are wider
@@ -92,13 +102,24 @@ def _aggregate_sweep(cost, guide, dy, dx, p1, p2, edge_scale, total, band_width)
                 if i == 0 or x0 < 0 or x0 >= cols:
                     _path_start(cost, total, y, x, current, c)
                 else:
-                    _path_step(cost, total, y, x, previous, c, current, c, p1,
-                               _edge_penalty(guide, y, x, y - dy, x0, p1, p2, edge_scale))
+                    _path_step(
+                        cost,
+                        total,
+                        y,
+                        x,
+                        previous,
+                        c,
+                        current,
+                        c,
+                        p1,
+                        _edge_penalty(guide, y, x, y - dy, x0, p1, p2, edge_scale),
+                    )
             previous, current = current, previous
 
 
-def aggregate_paths(cost: np.ndarray, guide: np.ndarray, *, p1: float, p2: float,
-                    edge_scale: float, paths=PATHS_8) -> np.ndarray:
+def aggregate_paths(
+    cost: np.ndarray, guide: np.ndarray, *, p1: float, p2: float, edge_scale: float, paths=PATHS_8
+) -> np.ndarray:
     """Sum of the path-wise SGM aggregations of a cost volume.
 
     Parameters
@@ -131,8 +152,14 @@ def aggregate_paths(cost: np.ndarray, guide: np.ndarray, *, p1: float, p2: float
     return total
 
 
-def sgm_volume(cost: np.ndarray, guide: np.ndarray, *, p1: float = 1.0, p2: float = 10.0,
-               edge_scale: float = 3.0) -> np.ndarray:
+def sgm_volume(
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    p1: float = 1.0,
+    p2: float = 10.0,
+    edge_scale: float = 3.0,
+) -> np.ndarray:
     """The ``sgm`` method: 8-path aggregation with P2 lowered across the guide's edges.
 
     Parameters

@@ -86,8 +86,10 @@ class Camera:
         return self.R[2].copy()
 
     def __repr__(self) -> str:
-        return (f"Camera(name={self.name!r}, fx={self.fx:g}, fy={self.fy:g}, cx={self.cx:g}, "
-                f"cy={self.cy:g}, t={self.t.tolist()}, size={self.size})")
+        return (
+            f"Camera(name={self.name!r}, fx={self.fx:g}, fy={self.fy:g}, cx={self.cx:g}, "
+            f"cy={self.cy:g}, t={self.t.tolist()}, size={self.size})"
+        )
 
 
 def turn_world(cameras, rotation: np.ndarray) -> list[Camera]:
@@ -110,8 +112,11 @@ def turn_world(cameras, rotation: np.ndarray) -> list[Camera]:
     list of Camera
     """
     rotation = np.asarray(rotation, dtype=np.float64)
-    if (rotation.shape != (3, 3) or not np.allclose(rotation @ rotation.T, np.eye(3), atol=1e-9)
-            or np.linalg.det(rotation) < 0):
+    if (
+        rotation.shape != (3, 3)
+        or not np.allclose(rotation @ rotation.T, np.eye(3), atol=1e-9)
+        or np.linalg.det(rotation) < 0
+    ):
         raise ValueError(f"rotation must be a 3x3 rotation matrix, got {rotation.tolist()}")
     turned = []
     for camera in cameras:

@@ -42,10 +42,24 @@ import numpy as np
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.projection import depth_along_axis
 
-__all__ = ["max_depth_value", "check_depth_range", "check_stereo", "depth_sign", "inverse_depth_step",
-           "DepthCoding", "facing_camera", "depth_to_z", "z_to_depth", "disparity_to_z",
-           "z_to_disparity", "normalized_disparity", "disparity_to_depth_value",
-           "depth_value_to_disparity", "ders_depth_range", "disparity_1d"]
+__all__ = [
+    "DepthCoding",
+    "check_depth_range",
+    "check_stereo",
+    "depth_sign",
+    "depth_to_z",
+    "depth_value_to_disparity",
+    "ders_depth_range",
+    "disparity_1d",
+    "disparity_to_depth_value",
+    "disparity_to_z",
+    "facing_camera",
+    "inverse_depth_step",
+    "max_depth_value",
+    "normalized_disparity",
+    "z_to_depth",
+    "z_to_disparity",
+]
 
 
 def max_depth_value(bits: int) -> int:
@@ -83,11 +97,14 @@ def check_depth_range(znear: float, zfar: float, *, depth_type: int = 0) -> None
         raise ValueError(f"Zfar must not be 0 or NaN, got {zfar:g}")
     if (znear > 0) == (zfar > 0):
         if not abs(znear) < abs(zfar):
-            raise ValueError(f"Znear {znear:g} is farther than Zfar {zfar:g}: need "
-                             "|Znear| < |Zfar|")
+            raise ValueError(
+                f"Znear {znear:g} is farther than Zfar {zfar:g}: need |Znear| < |Zfar|"
+            )
     elif depth_type == 0:
-        raise ValueError(f"Znear {znear:g} and Zfar {zfar:g} have opposite signs: depth "
-                         "along the camera axis (DepthType 0) keeps one sign")
+        raise ValueError(
+            f"Znear {znear:g} and Zfar {zfar:g} have opposite signs: depth "
+            "along the camera axis (DepthType 0) keeps one sign"
+        )
 
 
 def depth_sign(znear: float, zfar: float) -> int:
@@ -165,8 +182,9 @@ class DepthCoding:
         return inverse_depth_step(self.depth_range)
 
 
-def facing_camera(camera: Camera, depth_range: tuple[float, float], *,
-                  depth_type: int = 0) -> Camera:
+def facing_camera(
+    camera: Camera, depth_range: tuple[float, float], *, depth_type: int = 0
+) -> Camera:
     """``camera``, turned round (``R -> -R``) when the depths of ``depth_range`` lie behind it.
 
     ``P = K [R | -R t]`` and ``-P`` project every point to the same pixel, so the
@@ -260,8 +278,10 @@ def depth_value_to_disparity(values, dmin: float, dmax: float, *, bits: int = 8)
     vmax = max_depth_value(bits)
     values = np.asarray(values)
     if values.size and (values.min() < 0 or values.max() > vmax):
-        raise ValueError(f"depth values must lie in 0..{vmax} for {bits} bits, "
-                         f"got {values.min()}..{values.max()}")
+        raise ValueError(
+            f"depth values must lie in 0..{vmax} for {bits} bits, "
+            f"got {values.min()}..{values.max()}"
+        )
     if np.issubdtype(values.dtype, np.integer):
         # One division per possible value instead of one per pixel.
         table = dmin + np.arange(vmax + 1, dtype=np.float64) / vmax * (dmax - dmin)
@@ -269,8 +289,9 @@ def depth_value_to_disparity(values, dmin: float, dmax: float, *, bits: int = 8)
     return dmin + values.astype(np.float64) / vmax * (dmax - dmin)
 
 
-def depth_to_z(values, znear: float, zfar: float, *, bits: int = 8,
-               depth_type: int = 0) -> np.ndarray:
+def depth_to_z(
+    values, znear: float, zfar: float, *, bits: int = 8, depth_type: int = 0
+) -> np.ndarray:
     """Depth ``z`` of depth map values (``vmax`` = ``znear``, 0 = ``zfar``), signed as the
     range is.
 
@@ -295,8 +316,7 @@ def depth_to_z(values, znear: float, zfar: float, *, bits: int = 8,
         return 1.0 / inverse
 
 
-def z_to_depth(z, znear: float, zfar: float, *, bits: int = 8,
-               depth_type: int = 0) -> np.ndarray:
+def z_to_depth(z, znear: float, zfar: float, *, bits: int = 8, depth_type: int = 0) -> np.ndarray:
     """Depth map values of depths ``z``, rounded and clipped to ``0..vmax``.
 
     Parameters
@@ -347,12 +367,15 @@ def check_stereo(focal: float, baseline: float) -> None:
     """ValueError unless the focal length (pixels) and the baseline are positive and
     finite: the rule of every disparity <-> depth formula here."""
     if not (np.isfinite(focal) and focal > 0 and np.isfinite(baseline) and baseline > 0):
-        raise ValueError(f"focal and baseline must be positive and finite, got "
-                         f"focal={focal}, baseline={baseline}")
+        raise ValueError(
+            f"focal and baseline must be positive and finite, got "
+            f"focal={focal}, baseline={baseline}"
+        )
 
 
-def ders_depth_range(focal: float, baseline: float, dmin: float, dmax: float, *,
-                     offset: float = 0.0) -> tuple[float, float]:
+def ders_depth_range(
+    focal: float, baseline: float, dmin: float, dmax: float, *, offset: float = 0.0
+) -> tuple[float, float]:
     """``(Znear, Zfar)`` that DERS reports for the disparity range ``[dmin, dmax]``.
 
     ``Znear = f B / (dmax + off)``, ``Zfar = f B / (dmin + off)`` with
@@ -364,14 +387,22 @@ def ders_depth_range(focal: float, baseline: float, dmin: float, dmax: float, *,
     if not (np.isfinite(dmin) and np.isfinite(dmax) and dmin < dmax):
         raise ValueError(f"need finite dmin < dmax, got dmin={dmin}, dmax={dmax}")
     if dmin + offset < 0:
-        raise ValueError(f"dmin + offset must be >= 0 (else Zfar is behind the cameras), "
-                         f"got {dmin} + {offset}")
+        raise ValueError(
+            f"dmin + offset must be >= 0 (else Zfar is behind the cameras), got {dmin} + {offset}"
+        )
     zfar = np.inf if dmin + offset == 0 else focal * baseline / (dmin + offset)
     return focal * baseline / (dmax + offset), float(zfar)
 
 
-def disparity_1d(z, *, focal: float, tx_ref: float, tx_virtual: float,
-                 cx_ref: float = 0.0, cx_virtual: float = 0.0) -> np.ndarray:
+def disparity_1d(
+    z,
+    *,
+    focal: float,
+    tx_ref: float,
+    tx_virtual: float,
+    cx_ref: float = 0.0,
+    cx_virtual: float = 0.0,
+) -> np.ndarray:
     """Disparity of the VSRS 1D (parallel) mode, ``u_virtual = u_ref - d``.
 
     ``d = focal * (tx_virtual - tx_ref) / z - (cx_virtual - cx_ref)``, with ``t`` the

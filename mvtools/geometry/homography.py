@@ -37,8 +37,10 @@ def plane_homography(src: Camera, dst: Camera, z, *, depth_type: int = 0) -> np.
     elif depth_type == 1:
         distance = z - src.t[2]
         if not np.all(np.isfinite(distance) & (distance != 0)):
-            raise ValueError("world plane Z = z must be finite and not pass through the "
-                             f"source camera centre (Z = {src.t[2]})")
+            raise ValueError(
+                "world plane Z = z must be finite and not pass through the "
+                f"source camera centre (Z = {src.t[2]})"
+            )
         # (R^T x)_z + t_z = z  <=>  R[:, 2] . x = z - t_z
         normal = src.R[:, 2]
     else:

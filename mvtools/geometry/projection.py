@@ -21,7 +21,7 @@ import numpy as np
 
 from mvtools.geometry.camera import Camera
 
-__all__ = ["pixel_grid", "project", "depth_along_axis", "backproject", "reproject"]
+__all__ = ["backproject", "depth_along_axis", "pixel_grid", "project", "reproject"]
 
 
 def pixel_grid(width: int, height: int) -> tuple[np.ndarray, np.ndarray]:
@@ -39,8 +39,9 @@ def _affine_rows(matrix: np.ndarray, u: np.ndarray, v: np.ndarray) -> list[np.nd
 
 def _check_depth_type(depth_type: int) -> None:
     if depth_type not in (0, 1):
-        raise ValueError(f"depth_type must be 0 (along the camera axis) or 1 (world z), "
-                         f"got {depth_type!r}")
+        raise ValueError(
+            f"depth_type must be 0 (along the camera axis) or 1 (world z), got {depth_type!r}"
+        )
 
 
 def project(camera: Camera, points) -> tuple[np.ndarray, np.ndarray]:
@@ -119,13 +120,15 @@ def backproject(camera: Camera, u, v, z, *, depth_type: int = 0) -> np.ndarray:
         World coordinates.
     """
     depth = depth_along_axis(camera, u, v, z, depth_type=depth_type)
-    rays = _affine_rows(camera.R.T @ np.linalg.inv(camera.K), np.asarray(u, np.float64),
-                        np.asarray(v, np.float64))
+    rays = _affine_rows(
+        camera.R.T @ np.linalg.inv(camera.K), np.asarray(u, np.float64), np.asarray(v, np.float64)
+    )
     return np.stack([depth * ray + centre for ray, centre in zip(rays, camera.t)], axis=-1)
 
 
-def reproject(src: Camera, dst: Camera, u, v, z, *, depth_type: int = 0
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def reproject(
+    src: Camera, dst: Camera, u, v, z, *, depth_type: int = 0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Where pixels of ``src`` at depth ``z`` appear in ``dst``.
 
     Parameters

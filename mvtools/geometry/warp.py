@@ -10,9 +10,15 @@ from mvtools.geometry.projection import pixel_grid, reproject
 __all__ = ["forward_warp"]
 
 
-def forward_warp(values, z, src: Camera, dst: Camera, *, depth_type: int = 0,
-                 out_size: tuple[int, int] | None = None
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def forward_warp(
+    values,
+    z,
+    src: Camera,
+    dst: Camera,
+    *,
+    depth_type: int = 0,
+    out_size: tuple[int, int] | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Splat every source pixel to the nearest target pixel; the nearest surface wins.
 
     Each pixel of ``src`` is reprojected into ``dst`` and rounded to the nearest pixel
@@ -57,8 +63,13 @@ def forward_warp(values, z, src: Camera, dst: Camera, *, depth_type: int = 0,
     column = np.floor(u2.ravel() + 0.5)
     row = np.floor(v2.ravel() + 0.5)
     with np.errstate(invalid="ignore"):
-        lands = ((z2.ravel() > 0) & (column >= 0) & (column < out_width)
-                 & (row >= 0) & (row < out_height))
+        lands = (
+            (z2.ravel() > 0)
+            & (column >= 0)
+            & (column < out_width)
+            & (row >= 0)
+            & (row < out_height)
+        )
     source = np.flatnonzero(lands)
     target = row[source].astype(np.intp) * out_width + column[source].astype(np.intp)
     depth = z2.ravel()[source]
@@ -79,5 +90,8 @@ def forward_warp(values, z, src: Camera, dst: Camera, *, depth_type: int = 0,
     warped_z[target] = depth[winners]
     filled = np.zeros(out_height * out_width, dtype=bool)
     filled[target] = True
-    return (warped.reshape((out_height, out_width) + channels),
-            warped_z.reshape(out_height, out_width), filled.reshape(out_height, out_width))
+    return (
+        warped.reshape((out_height, out_width) + channels),
+        warped_z.reshape(out_height, out_width),
+        filled.reshape(out_height, out_width),
+    )

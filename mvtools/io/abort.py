@@ -34,8 +34,9 @@ def unfinished_file(path: str | os.PathLike) -> Iterator[None]:
 def run_program(command: list[str]) -> subprocess.CompletedProcess:
     """``subprocess.run(command, capture_output=True, text=True)``, the child being
     killed by :func:`abort` and on any exception here."""
-    with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                          text=True) as child:
+    with subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+    ) as child:
         _CHILDREN.add(child)
         try:
             stdout, stderr = child.communicate()

@@ -18,8 +18,9 @@ logger = logging.getLogger(__name__)
 
 
 @contextlib.contextmanager
-def atomic_output(path: str | os.PathLike, mode: str = "wb", *, what: str = "output"
-                  ) -> Iterator[IO]:
+def atomic_output(
+    path: str | os.PathLike, mode: str = "wb", *, what: str = "output"
+) -> Iterator[IO]:
     """Open a temporary file next to ``path``; rename it to ``path`` on success.
 
     If the block raises, or the programs' signal handler calls

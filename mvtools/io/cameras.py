@@ -55,8 +55,15 @@ from mvtools.geometry.camera import Camera
 from mvtools.io.atomic import atomic_output
 from mvtools.io.files import read_text
 
-__all__ = ["read_cameras", "write_cameras", "get_camera", "read_htm_cameras",
-           "store_camera", "NUMBERS_PER_CAMERA", "ORTHONORMAL_TOLERANCE"]
+__all__ = [
+    "NUMBERS_PER_CAMERA",
+    "ORTHONORMAL_TOLERANCE",
+    "get_camera",
+    "read_cameras",
+    "read_htm_cameras",
+    "store_camera",
+    "write_cameras",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -99,23 +106,40 @@ def _blocks(tokens: list[_Token], path: Path) -> Iterable[tuple[_Token, list[flo
         end = index + 1
         while end < len(tokens) and _is_number(tokens[end].text):
             end += 1
-        numbers = tokens[index + 1:end]
+        numbers = tokens[index + 1 : end]
         if len(numbers) < NUMBERS_PER_CAMERA:
-            raise ConfigError(f"camera block has {len(numbers)} numbers, "
-                              f"{NUMBERS_PER_CAMERA} needed", path=path, line=name.line,
-                              key=name.text)
+            raise ConfigError(
+                f"camera block has {len(numbers)} numbers, {NUMBERS_PER_CAMERA} needed",
+                path=path,
+                line=name.line,
+                key=name.text,
+            )
         if len(numbers) > NUMBERS_PER_CAMERA:
             extra = numbers[NUMBERS_PER_CAMERA:]
-            logger.warning("%s:%d: %s: camera block has %d numbers, the %d after the %dth "
-                           "(lines %d-%d) are ignored", path, name.line, name.text,
-                           len(numbers), len(extra), NUMBERS_PER_CAMERA, extra[0].line,
-                           extra[-1].line)
+            logger.warning(
+                "%s:%d: %s: camera block has %d numbers, the %d after the %dth "
+                "(lines %d-%d) are ignored",
+                path,
+                name.line,
+                name.text,
+                len(numbers),
+                len(extra),
+                NUMBERS_PER_CAMERA,
+                extra[0].line,
+                extra[-1].line,
+            )
         yield name, [float(token.text) for token in numbers[:NUMBERS_PER_CAMERA]]
         index = end
 
 
-def store_camera(cameras: dict[str, Camera], camera: Camera, lines: dict[str, int], *,
-                 path: str | os.PathLike, line: int | None = None) -> None:
+def store_camera(
+    cameras: dict[str, Camera],
+    camera: Camera,
+    lines: dict[str, int],
+    *,
+    path: str | os.PathLike,
+    line: int | None = None,
+) -> None:
     """Check ``camera``, read from a camera file, and add it to ``cameras``; a name seen
     before is replaced with a warning.
 
@@ -135,14 +159,17 @@ def store_camera(cameras: dict[str, Camera], camera: Camera, lines: dict[str, in
     if camera.name in cameras:
         first = lines[camera.name]
         first_place = f" (first at line {first})" if first is not None else ""
-        logger.warning("%s: camera %r is defined again%s; the last definition is used, "
-                       "as VSRS does", where, camera.name, first_place)
+        logger.warning(
+            "%s: camera %r is defined again%s; the last definition is used, as VSRS does",
+            where,
+            camera.name,
+            first_place,
+        )
     cameras[camera.name] = camera
     lines[camera.name] = line
 
 
-def _check_camera(camera: Camera, path: str | os.PathLike, line: int | None,
-                  where: str) -> None:
+def _check_camera(camera: Camera, path: str | os.PathLike, line: int | None, where: str) -> None:
     """Refuse a camera that no program can use; warn about a rotation that is not one.
 
     A singular ``K`` (all zeros, as a file exported without intrinsics holds, or a
@@ -151,23 +178,36 @@ def _check_camera(camera: Camera, path: str | os.PathLike, line: int | None,
     """
     numbers = np.concatenate([camera.K.ravel(), camera.R.ravel(), camera.t, camera.distortion])
     if not np.all(np.isfinite(numbers)):
-        raise ConfigError("the camera has non-finite parameters (inf or nan)", path=path,
-                          line=line, key=camera.name)
+        raise ConfigError(
+            "the camera has non-finite parameters (inf or nan)",
+            path=path,
+            line=line,
+            key=camera.name,
+        )
     if np.linalg.matrix_rank(camera.K) < 3:
         rows = ", ".join(" ".join(f"{value:g}" for value in row) for row in camera.K)
-        raise ConfigError(f"the intrinsic matrix K ({rows}) is singular: a camera needs "
-                          "focal lengths fx, fy other than 0 and the last row 0 0 1",
-                          path=path, line=line, key=camera.name)
+        raise ConfigError(
+            f"the intrinsic matrix K ({rows}) is singular: a camera needs "
+            "focal lengths fx, fy other than 0 and the last row 0 0 1",
+            path=path,
+            line=line,
+            key=camera.name,
+        )
     error = float(np.abs(camera.R @ camera.R.T - np.eye(3)).max())
     if error > ORTHONORMAL_TOLERANCE:
-        logger.warning("%s: %s: rotation is not orthonormal (max |R R^T - I| = %.3g)",
-                       where, camera.name, error)
+        logger.warning(
+            "%s: %s: rotation is not orthonormal (max |R R^T - I| = %.3g)",
+            where,
+            camera.name,
+            error,
+        )
     elif np.linalg.det(camera.R) < 0:
         logger.warning("%s: %s: rotation is a reflection (det R = -1)", where, camera.name)
 
 
-def read_cameras(path: str | os.PathLike, *, transposed_rotation: bool = False
-                 ) -> dict[str, Camera]:
+def read_cameras(
+    path: str | os.PathLike, *, transposed_rotation: bool = False
+) -> dict[str, Camera]:
     """Read an MPEG camera parameter file (VSRS, DERS).
 
     Parameters
@@ -205,18 +245,29 @@ def read_cameras(path: str | os.PathLike, *, transposed_rotation: bool = False
     for name, numbers in blocks:
         rotation_translation = np.array(numbers[11:]).reshape(3, 4)
         rotation = rotation_translation[:, :3]
-        camera = Camera(name=name.text, K=numbers[:9],
-                        R=rotation.T if transposed_rotation else rotation,
-                        t=rotation_translation[:, 3], distortion=numbers[9:11])
+        camera = Camera(
+            name=name.text,
+            K=numbers[:9],
+            R=rotation.T if transposed_rotation else rotation,
+            t=rotation_translation[:, 3],
+            distortion=numbers[9:11],
+        )
         store_camera(cameras, camera, lines, path=path, line=name.line)
     if not cameras:
-        raise ConfigError("no camera found (a camera is a name followed by "
-                          f"{NUMBERS_PER_CAMERA} numbers)", path=path)
+        raise ConfigError(
+            f"no camera found (a camera is a name followed by {NUMBERS_PER_CAMERA} numbers)",
+            path=path,
+        )
     return cameras
 
 
-def get_camera(cameras: Mapping[str, Camera], name: str, *,
-               path: str | os.PathLike | None = None, key: str | None = None) -> Camera:
+def get_camera(
+    cameras: Mapping[str, Camera],
+    name: str,
+    *,
+    path: str | os.PathLike | None = None,
+    key: str | None = None,
+) -> Camera:
     """The camera called ``name``, or a ConfigError suggesting the closest names.
 
     ``path`` (the camera file) and ``key`` (the configuration key that asked for the
@@ -244,20 +295,28 @@ def _format_row(values: Iterable[float]) -> str:
 def _check_writable(camera: Camera, path: Path) -> None:
     name = camera.name
     if not name or any(ch.isspace() for ch in name) or "#" in name or _is_number(name):
-        raise UsageError(f"camera name {name!r} cannot be written: it must be one token, "
-                         "not a number, without '#'", path=path)
+        raise UsageError(
+            f"camera name {name!r} cannot be written: it must be one token, "
+            "not a number, without '#'",
+            path=path,
+        )
     if np.any(camera.distortion[2:] != 0):
-        raise UsageError(f"camera {name!r} has distortion terms beyond K1, K2 "
-                         f"({camera.distortion.tolist()}), which the format cannot store",
-                         path=path)
-    numbers = np.concatenate([camera.K.ravel(), camera.R.ravel(), camera.t,
-                              camera.distortion])
+        raise UsageError(
+            f"camera {name!r} has distortion terms beyond K1, K2 "
+            f"({camera.distortion.tolist()}), which the format cannot store",
+            path=path,
+        )
+    numbers = np.concatenate([camera.K.ravel(), camera.R.ravel(), camera.t, camera.distortion])
     if not np.all(np.isfinite(numbers)):
         raise UsageError(f"camera {name!r} has non-finite parameters", path=path)
 
 
-def write_cameras(path: str | os.PathLike, cameras: Iterable[Camera] | Mapping[str, Camera],
-                  *, transposed_rotation: bool = False) -> None:
+def write_cameras(
+    path: str | os.PathLike,
+    cameras: Iterable[Camera] | Mapping[str, Camera],
+    *,
+    transposed_rotation: bool = False,
+) -> None:
     """Write cameras as an MPEG camera parameter file that reads back to the same numbers.
 
     Parameters
@@ -289,10 +348,13 @@ def write_cameras(path: str | os.PathLike, cameras: Iterable[Camera] | Mapping[s
     for camera in cameras:
         rotation = camera.R.T if transposed_rotation else camera.R
         distortion = np.zeros(2)
-        distortion[:min(2, camera.distortion.size)] = camera.distortion[:2]
-        rows = [camera.name, *(_format_row(row) for row in camera.K),
-                *(_format_row([value]) for value in distortion),
-                *(_format_row([*rotation[i], camera.t[i]]) for i in range(3))]
+        distortion[: min(2, camera.distortion.size)] = camera.distortion[:2]
+        rows = [
+            camera.name,
+            *(_format_row(row) for row in camera.K),
+            *(_format_row([value]) for value in distortion),
+            *(_format_row([*rotation[i], camera.t[i]]) for i in range(3)),
+        ]
         blocks.append("\n".join(rows) + "\n\n")
     with atomic_output(path, "w") as handle:
         handle.write("".join(blocks))
@@ -328,16 +390,22 @@ def read_htm_cameras(path: str | os.PathLike, *, frame: int = 0) -> dict[str, Ca
         if not words:
             continue
         if len(words) not in (6, 8) or not all(_is_number(word) for word in words):
-            raise ConfigError(f"expected 6 or 8 numbers (ViewNum StartFrame EndFrame "
-                              f"FocalLength Position CShift [ZNear ZFar]), got {line.strip()!r}",
-                              path=path, line=number)
+            raise ConfigError(
+                f"expected 6 or 8 numbers (ViewNum StartFrame EndFrame "
+                f"FocalLength Position CShift [ZNear ZFar]), got {line.strip()!r}",
+                path=path,
+                line=number,
+            )
         values = [float(word) for word in words]
         start, end, focal, position, shift = values[1:6]
         if not start <= frame <= end:
             continue
-        camera = Camera(name=words[0], K=[[focal, 0.0, shift], [0.0, focal, 0.0], [0, 0, 1]],
-                        t=[position, 0.0, 0.0],
-                        depth_range=(values[6], values[7]) if len(values) == 8 else None)
+        camera = Camera(
+            name=words[0],
+            K=[[focal, 0.0, shift], [0.0, focal, 0.0], [0, 0, 1]],
+            t=[position, 0.0, 0.0],
+            depth_range=(values[6], values[7]) if len(values) == 8 else None,
+        )
         store_camera(cameras, camera, lines, path=path, line=number)
     if not cameras:
         raise ConfigError(f"no camera row covers frame {frame}", path=path)

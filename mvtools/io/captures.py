@@ -18,7 +18,7 @@ from mvtools.io.guard import note_input
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image
 from mvtools.io.yuv import VideoReader
 
-__all__ = ["CaptureSource", "open_captures", "VIDEO_EXTENSIONS"]
+__all__ = ["VIDEO_EXTENSIONS", "CaptureSource", "open_captures"]
 
 VIDEO_EXTENSIONS = (".yuv", ".y4m")
 _GLOB_CHARACTERS = re.compile(r"[*?\[]")
@@ -36,8 +36,14 @@ class CaptureSource:
         One per capture: the file name, or ``frame N`` of a video.
     """
 
-    def __init__(self, name: str, labels: list[str], *, files: list[Path] | None = None,
-                 video: VideoReader | None = None):
+    def __init__(
+        self,
+        name: str,
+        labels: list[str],
+        *,
+        files: list[Path] | None = None,
+        video: VideoReader | None = None,
+    ):
         self.name = name
         self.labels = labels
         self._files = files
@@ -50,7 +56,7 @@ class CaptureSource:
     def __len__(self) -> int:
         return len(self.labels)
 
-    def __enter__(self) -> "CaptureSource":
+    def __enter__(self) -> CaptureSource:
         return self
 
     def __exit__(self, *exc_info) -> None:
@@ -73,8 +79,9 @@ class CaptureSource:
             return np.array(luma)
         image = read_image(self._files[index], grayscale=True)
         if image.dtype != np.uint8:
-            raise DataError(f"captures must be 8-bit images, got {image.dtype}",
-                            path=self._files[index])
+            raise DataError(
+                f"captures must be 8-bit images, got {image.dtype}", path=self._files[index]
+            )
         return image
 
 
@@ -103,17 +110,24 @@ def open_captures(spec: str | os.PathLike, open_video) -> CaptureSource:
     text = os.fspath(spec)
     path = Path(text)
     if _GLOB_CHARACTERS.search(path.name):
-        files = sorted(Path(match) for match in glob.glob(text)
-                       if Path(match).suffix.lower() in IMAGE_EXTENSIONS)
+        files = sorted(
+            Path(match)
+            for match in glob.glob(text)
+            if Path(match).suffix.lower() in IMAGE_EXTENSIONS
+        )
         if not files:
             raise UsageError("no image matches the pattern", path=text)
         return CaptureSource(_pattern_name(text), [file.name for file in files], files=files)
     if path.is_dir():
-        files = sorted(file for file in path.iterdir()
-                       if file.is_file() and file.suffix.lower() in IMAGE_EXTENSIONS)
+        files = sorted(
+            file
+            for file in path.iterdir()
+            if file.is_file() and file.suffix.lower() in IMAGE_EXTENSIONS
+        )
         if not files:
-            raise UsageError(f"the folder holds no images ({', '.join(IMAGE_EXTENSIONS)})",
-                             path=path)
+            raise UsageError(
+                f"the folder holds no images ({', '.join(IMAGE_EXTENSIONS)})", path=path
+            )
         return CaptureSource(path.resolve().name, [file.name for file in files], files=files)
     if not path.exists():
         raise UsageError("no such folder, image pattern or video", path=path)
@@ -121,7 +135,9 @@ def open_captures(spec: str | os.PathLike, open_video) -> CaptureSource:
         video = open_video(path)
         # cam0_640x480_yuv420p.yuv is camera cam0
         name = re.sub(r"_\d+x\d+(_\w+)?$", "", path.stem) or path.stem
-        return CaptureSource(name, [f"frame {index}" for index in range(len(video))],
-                             video=video)
-    raise UsageError("captures are a folder of images, an image pattern (quoted, e.g. "
-                     "'left*.jpg') or a .yuv/.y4m video", path=path)
+        return CaptureSource(name, [f"frame {index}" for index in range(len(video))], video=video)
+    raise UsageError(
+        "captures are a folder of images, an image pattern (quoted, e.g. "
+        "'left*.jpg') or a .yuv/.y4m video",
+        path=path,
+    )

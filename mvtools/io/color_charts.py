@@ -26,7 +26,7 @@ from mvtools.color.chart import xy_to_xyz
 from mvtools.errors import ConfigError
 from mvtools.io.files import json_numbers, read_json, read_text
 
-__all__ = ["ColorChart", "DEFAULT_CHART", "read_colorchecker", "read_colorchecker_srgb"]
+__all__ = ["DEFAULT_CHART", "ColorChart", "read_colorchecker", "read_colorchecker_srgb"]
 
 DEFAULT_CHART = "ColorChecker24 - After November 2014"
 
@@ -112,41 +112,60 @@ def read_colorchecker(path: str | os.PathLike, *, chart: str = DEFAULT_CHART) ->
     path = Path(path)
     document = read_json(path, "colour chart file")
     if not isinstance(document, dict):
-        raise ConfigError("expected an object of charts by name (colour-science's "
-                          f"CCS_COLOURCHECKERS), got {_kind(document)}", path=path)
+        raise ConfigError(
+            "expected an object of charts by name (colour-science's "
+            f"CCS_COLOURCHECKERS), got {_kind(document)}",
+            path=path,
+        )
     if chart not in document:
         names = ", ".join(repr(name) for name in document) or "none"
         raise ConfigError(f"no chart {chart!r} in the file (charts: {names})", path=path)
     entry = document[chart]
-    if not isinstance(entry, dict) or not {"illuminant_xy", "rows", "columns",
-                                           "patches"} & set(entry):
+    if not isinstance(entry, dict) or not {"illuminant_xy", "rows", "columns", "patches"} & set(
+        entry
+    ):
         # a list, or colour-science's other file: spectral distributions by patch name
-        raise ConfigError(f"the chart must be {_CHART_SHAPE}, got {_kind(entry)}", path=path,
-                          key=chart)
+        raise ConfigError(
+            f"the chart must be {_CHART_SHAPE}, got {_kind(entry)}", path=path, key=chart
+        )
     columns = _count(entry, "columns", path=path, key=chart)
     rows = _count(entry, "rows", path=path, key=chart)
     white_x, white_y = json_numbers(entry, "illuminant_xy", 2, path=path, key=chart)
     if white_y <= 0:
-        raise ConfigError(f"illuminant_xy must have y > 0, got {[white_x, white_y]}",
-                          path=path, key=chart)
+        raise ConfigError(
+            f"illuminant_xy must have y > 0, got {[white_x, white_y]}", path=path, key=chart
+        )
     patches = entry.get("patches")
     if not isinstance(patches, dict):
-        raise ConfigError(f"must be an object of patch name to {_PATCH_SHAPE}, in chart "
-                          f"order, got {_kind(patches) if 'patches' in entry else 'nothing'}",
-                          path=path, key=f"{chart}: patches")
+        raise ConfigError(
+            f"must be an object of patch name to {_PATCH_SHAPE}, in chart "
+            f"order, got {_kind(patches) if 'patches' in entry else 'nothing'}",
+            path=path,
+            key=f"{chart}: patches",
+        )
     if len(patches) != columns * rows:
-        raise ConfigError(f"columns x rows = {columns} x {rows} = {columns * rows} patches, "
-                          f"got {len(patches)}", path=path, key=f"{chart}: patches")
+        raise ConfigError(
+            f"columns x rows = {columns} x {rows} = {columns * rows} patches, got {len(patches)}",
+            path=path,
+            key=f"{chart}: patches",
+        )
     xyz, lab = [], []
     for name, patch in patches.items():
         key = f"{chart}: {name}"
         if not isinstance(patch, dict):
-            raise ConfigError(f"a patch must be {_PATCH_SHAPE}, got {_kind(patch)}",
-                              path=path, key=key)
+            raise ConfigError(
+                f"a patch must be {_PATCH_SHAPE}, got {_kind(patch)}", path=path, key=key
+            )
         xyz.append(json_numbers(patch, "XYZ", 3, path=path, key=key))
         lab.append(json_numbers(patch, "Lab_under_chart_illuminant", 3, path=path, key=key))
-    return ColorChart(name=chart, patch_names=tuple(patches), layout=(columns, rows),
-                      xyz=np.array(xyz), lab=np.array(lab), white_xy=(white_x, white_y))
+    return ColorChart(
+        name=chart,
+        patch_names=tuple(patches),
+        layout=(columns, rows),
+        xyz=np.array(xyz),
+        lab=np.array(lab),
+        white_xy=(white_x, white_y),
+    )
 
 
 def read_colorchecker_srgb(path: str | os.PathLike) -> tuple[tuple[str, ...], np.ndarray]:
@@ -171,27 +190,31 @@ def read_colorchecker_srgb(path: str | os.PathLike) -> tuple[tuple[str, ...], np
     lines = csv.reader(read_text(path, "colour chart file").splitlines())
     header = next(lines, None)
     if header is None or [field.strip().lower() for field in header] != ["patch", "r", "g", "b"]:
-        raise ConfigError(f"the header must be 'patch,R,G,B', got {','.join(header or [])!r}",
-                          path=path, line=1)
+        raise ConfigError(
+            f"the header must be 'patch,R,G,B', got {','.join(header or [])!r}", path=path, line=1
+        )
     names: list[str] = []
     values: list[list[float]] = []
     for number, fields in enumerate(lines, start=2):
         if not fields or not "".join(fields).strip():
             continue
         if len(fields) != 4:
-            raise ConfigError(f"expected 4 fields (patch, R, G, B), got {len(fields)}",
-                              path=path, line=number)
+            raise ConfigError(
+                f"expected 4 fields (patch, R, G, B), got {len(fields)}", path=path, line=number
+            )
         name = fields[0].strip()
         if name in names:
             raise ConfigError(f"patch {name!r} appears twice", path=path, line=number)
         try:
             rgb = [float(field) for field in fields[1:]]
         except ValueError:
-            raise ConfigError(f"R, G, B of {name!r} must be numbers, got {fields[1:]}",
-                              path=path, line=number) from None
+            raise ConfigError(
+                f"R, G, B of {name!r} must be numbers, got {fields[1:]}", path=path, line=number
+            ) from None
         if not all(0.0 <= value <= 255.0 for value in rgb):
-            raise ConfigError(f"R, G, B of {name!r} must be in [0, 255], got {rgb}",
-                              path=path, line=number)
+            raise ConfigError(
+                f"R, G, B of {name!r} must be in [0, 255], got {rgb}", path=path, line=number
+            )
         names.append(name)
         values.append(rgb)
     if not names:

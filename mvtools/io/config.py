@@ -24,9 +24,10 @@ import difflib
 import logging
 import os
 import re
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path, PureWindowsPath
-from typing import Any, Iterable, Mapping, TypeVar
+from typing import Any, TypeVar
 
 import mvtools
 from mvtools.errors import ConfigError, UsageError
@@ -139,9 +140,13 @@ def read_config(path: str | os.PathLike) -> dict[str, ConfigEntry]:
         if not words:
             continue
         if len(words) > 2:
-            raise ConfigError(f"{len(words)} words before the comment, expected 'Key Value'; "
-                              "write a value that holds spaces in double quotes",
-                              path=name, line=number, key=words[0])
+            raise ConfigError(
+                f"{len(words)} words before the comment, expected 'Key Value'; "
+                "write a value that holds spaces in double quotes",
+                path=name,
+                line=number,
+                key=words[0],
+            )
         key = words[0]
         if not key:
             raise ConfigError("empty key", path=name, line=number)
@@ -180,10 +185,10 @@ def _remember(entries: dict[str, ConfigEntry], entry: ConfigEntry) -> None:
     """Add ``entry``; warn when it replaces one from the same source."""
     previous = entries.get(entry.key)
     if previous is not None:
-        where = (f"on lines {previous.line} and {entry.line}" if entry.line is not None
-                 else "twice")
-        logger.warning("%s: %s given %s; the last one (%r) wins",
-                       entry.place, entry.key, where, entry.value)
+        where = f"on lines {previous.line} and {entry.line}" if entry.line is not None else "twice"
+        logger.warning(
+            "%s: %s given %s; the last one (%r) wins", entry.place, entry.key, where, entry.value
+        )
     entries[entry.key] = entry
 
 
@@ -231,8 +236,11 @@ def override_entries(cls: type, values: Mapping[str, Any]) -> dict[str, ConfigEn
         A name that is not a field of ``cls`` (a programming error).
     """
     specs = {spec.name: spec for spec in param_specs(cls)}
-    return {specs[name].key: ConfigEntry(specs[name].key, format_value(value), COMMAND_LINE, None)
-            for name, value in values.items() if value is not None}
+    return {
+        specs[name].key: ConfigEntry(specs[name].key, format_value(value), COMMAND_LINE, None)
+        for name, value in values.items()
+        if value is not None
+    }
 
 
 _INTEGER = re.compile(r"[+-]?\d+")
@@ -317,8 +325,10 @@ def _check_program(cls: type, entries: Mapping[str, ConfigEntry]) -> None:
         only_own = [key for key in entries if key in own - theirs]
         if len(only_theirs) >= OTHER_PROGRAM_KEYS and len(only_theirs) > len(only_own):
             shown = ", ".join(entry.key for entry in only_theirs[:3])
-            raise ConfigError(f"this is a {other.program} configuration ({shown}, ...), "
-                              f"not a {cls.program} one", path=only_theirs[0].path)
+            raise ConfigError(
+                f"this is a {other.program} configuration ({shown}, ...), not a {cls.program} one",
+                path=only_theirs[0].path,
+            )
 
 
 def param_entry(params: Any, name: str) -> ConfigEntry:
@@ -358,8 +368,9 @@ def _split_path(value: str) -> tuple[Path | None, tuple[str, ...]]:
     return Path(*parts), parts
 
 
-def resolve_input_path(entry: ConfigEntry, *, data_dirs: Iterable[str | os.PathLike] = (),
-                       must_exist: bool = True) -> Path:
+def resolve_input_path(
+    entry: ConfigEntry, *, data_dirs: Iterable[str | os.PathLike] = (), must_exist: bool = True
+) -> Path:
     """Find the file an input entry names.
 
     Places tried, in order (the first existing file wins):
@@ -410,8 +421,11 @@ def resolve_input_path(entry: ConfigEntry, *, data_dirs: Iterable[str | os.PathL
         return candidates[0]
     places = f"{len(candidates)} place{'s' if len(candidates) != 1 else ''}"
     tried = ", ".join(str(candidate) for candidate in candidates)
-    raise entry.error(f"file '{entry.value}' not found (tried {places}: {tried}); "
-                      "give the folder holding it with --data-dir", UsageError)
+    raise entry.error(
+        f"file '{entry.value}' not found (tried {places}: {tried}); "
+        "give the folder holding it with --data-dir",
+        UsageError,
+    )
 
 
 def resolve_output_path(entry: ConfigEntry) -> Path:
@@ -429,8 +443,10 @@ def resolve_output_path(entry: ConfigEntry) -> Path:
         raise entry.error("no output file name given", UsageError)
     native, _ = _split_path(entry.value)
     if native is None:
-        raise entry.error(f"{entry.value!r} is a Windows drive path; "
-                          "give an output path on this system", UsageError)
+        raise entry.error(
+            f"{entry.value!r} is a Windows drive path; give an output path on this system",
+            UsageError,
+        )
     try:
         output_folder_exists(native.parent)
     except UsageError as error:
@@ -466,7 +482,9 @@ def write_config(path: str | os.PathLike, params: Any) -> None:
     key_width = max(len(spec.key) for spec in specs)
     value_width = max(len(text) for text in texts)
     lines = [f"# {params.program} configuration written by mvtools {mvtools.__version__}"]
-    lines += [f"{spec.key:<{key_width}}  {text:<{value_width}}  # {spec.help}"
-              for spec, text in zip(specs, texts)]
+    lines += [
+        f"{spec.key:<{key_width}}  {text:<{value_width}}  # {spec.help}"
+        for spec, text in zip(specs, texts)
+    ]
     with atomic_output(path, "wb") as handle:
         handle.write(("\n".join(lines) + "\n").encode("utf-8"))

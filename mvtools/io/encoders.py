@@ -28,8 +28,9 @@ def program_path(name: str) -> str:
     """The program's path, or a UsageError naming the package to install."""
     found = shutil.which(name)
     if found is None:
-        raise UsageError(f"the {name} program is not installed: `{_INSTALL[name]}` (Debian) "
-                         "installs it")
+        raise UsageError(
+            f"the {name} program is not installed: `{_INSTALL[name]}` (Debian) installs it"
+        )
     return found
 
 
@@ -43,17 +44,27 @@ def _run(command: list[str], what: str, target: Path) -> None:
             completed = run_program(command)
             if completed.returncode != 0:
                 message = (completed.stderr or completed.stdout).strip().splitlines()
-                raise DataError(f"{what} failed (exit code {completed.returncode}): "
-                                f"{message[-1] if message else 'no message'}", path=target)
+                raise DataError(
+                    f"{what} failed (exit code {completed.returncode}): "
+                    f"{message[-1] if message else 'no message'}",
+                    path=target,
+                )
             os.replace(temporary, target)
         finally:
             if temporary.exists():
                 temporary.unlink()
 
 
-def encode_hevc(source: str | os.PathLike, fmt: YuvFormat, bitstream: str | os.PathLike, *,
-                qp: int, encoder: str = "x265", preset: str = "medium", fps: float = 25.0
-                ) -> int:
+def encode_hevc(
+    source: str | os.PathLike,
+    fmt: YuvFormat,
+    bitstream: str | os.PathLike,
+    *,
+    qp: int,
+    encoder: str = "x265",
+    preset: str = "medium",
+    fps: float = 25.0,
+) -> int:
     """Encode a raw YUV file at a constant QP; returns the bitstream's size in bytes.
 
     Both encoders run x265 with one frame thread, so that the same input gives the
@@ -64,18 +75,59 @@ def encode_hevc(source: str | os.PathLike, fmt: YuvFormat, bitstream: str | os.P
     bitstream = Path(bitstream)
     note_input(source)
     if encoder == "x265":
-        command = [program_path("x265"), "--input", str(source),
-                   "--input-res", f"{fmt.width}x{fmt.height}",
-                   "--input-csp", _X265_CSP[fmt.chroma], "--input-depth", str(fmt.bits),
-                   "--output-depth", str(fmt.bits), "--fps", f"{fps:g}", "--qp", str(qp),
-                   "--preset", preset, "--frame-threads", "1", "--no-info",
-                   "--log-level", "error", "--output", "{output}"]
+        command = [
+            program_path("x265"),
+            "--input",
+            str(source),
+            "--input-res",
+            f"{fmt.width}x{fmt.height}",
+            "--input-csp",
+            _X265_CSP[fmt.chroma],
+            "--input-depth",
+            str(fmt.bits),
+            "--output-depth",
+            str(fmt.bits),
+            "--fps",
+            f"{fps:g}",
+            "--qp",
+            str(qp),
+            "--preset",
+            preset,
+            "--frame-threads",
+            "1",
+            "--no-info",
+            "--log-level",
+            "error",
+            "--output",
+            "{output}",
+        ]
     else:
-        command = [program_path("ffmpeg"), "-nostdin", "-y", "-loglevel", "error",
-                   "-f", "rawvideo", "-pix_fmt", fmt.pix_fmt, "-s", f"{fmt.width}x{fmt.height}",
-                   "-r", f"{fps:g}", "-i", str(source), "-c:v", "libx265", "-preset", preset,
-                   "-x265-params", f"qp={qp}:frame-threads=1:info=0:log-level=error",
-                   "-f", "hevc", "{output}"]
+        command = [
+            program_path("ffmpeg"),
+            "-nostdin",
+            "-y",
+            "-loglevel",
+            "error",
+            "-f",
+            "rawvideo",
+            "-pix_fmt",
+            fmt.pix_fmt,
+            "-s",
+            f"{fmt.width}x{fmt.height}",
+            "-r",
+            f"{fps:g}",
+            "-i",
+            str(source),
+            "-c:v",
+            "libx265",
+            "-preset",
+            preset,
+            "-x265-params",
+            f"qp={qp}:frame-threads=1:info=0:log-level=error",
+            "-f",
+            "hevc",
+            "{output}",
+        ]
     _run(command, f"{encoder} encoding", bitstream)
     return bitstream.stat().st_size
 
@@ -83,6 +135,18 @@ def encode_hevc(source: str | os.PathLike, fmt: YuvFormat, bitstream: str | os.P
 def decode_hevc(bitstream: str | os.PathLike, output: str | os.PathLike, fmt: YuvFormat) -> None:
     """Decode an HEVC bitstream to a raw YUV file of ``fmt`` with ffmpeg."""
     note_input(bitstream)
-    command = [program_path("ffmpeg"), "-nostdin", "-y", "-loglevel", "error",
-               "-i", str(bitstream), "-f", "rawvideo", "-pix_fmt", fmt.pix_fmt, "{output}"]
+    command = [
+        program_path("ffmpeg"),
+        "-nostdin",
+        "-y",
+        "-loglevel",
+        "error",
+        "-i",
+        str(bitstream),
+        "-f",
+        "rawvideo",
+        "-pix_fmt",
+        fmt.pix_fmt,
+        "{output}",
+    ]
     _run(command, "ffmpeg decoding", Path(output))

@@ -39,21 +39,29 @@ def read_json(path: str | os.PathLike, what: str = "JSON file"):
     try:
         return json.loads(read_text(path, what))
     except json.JSONDecodeError as err:
-        raise ConfigError(f"invalid JSON: {err.msg} (column {err.colno})", path=path,
-                          line=err.lineno) from None
+        raise ConfigError(
+            f"invalid JSON: {err.msg} (column {err.colno})", path=path, line=err.lineno
+        ) from None
 
 
-def json_numbers(entry: dict, field: str, count: int, *, path: str | os.PathLike, key: str,
-                 required: bool = True) -> list[float] | None:
+def json_numbers(
+    entry: dict, field: str, count: int, *, path: str | os.PathLike, key: str, required: bool = True
+) -> list[float] | None:
     """``entry[field]`` as a list of ``count`` finite numbers (None when absent and not
     ``required``); anything else is a ConfigError naming the file and ``key``."""
     value = entry.get(field)
     if value is None and not required:
         return None
-    if (not isinstance(value, list) or len(value) != count
-            or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                       and math.isfinite(x) for x in value)):
+    if (
+        not isinstance(value, list)
+        or len(value) != count
+        or not all(
+            isinstance(x, (int, float)) and not isinstance(x, bool) and math.isfinite(x)
+            for x in value
+        )
+    ):
         shown = "missing" if value is None else f"got {json.dumps(value)}"
-        raise ConfigError(f"{field} must be a list of {count} finite numbers, {shown}",
-                          path=path, key=key)
+        raise ConfigError(
+            f"{field} must be a list of {count} finite numbers, {shown}", path=path, key=key
+        )
     return [float(x) for x in value]

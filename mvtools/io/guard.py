@@ -30,12 +30,13 @@ __all__ = ["check_output", "check_outputs", "claim_output", "file_guard", "note_
 
 @dataclass
 class _RunFiles:
-    inputs: dict[object, Path] = field(default_factory=dict)     # identity -> as given
-    outputs: dict[str, str] = field(default_factory=dict)        # real path -> what it is
+    inputs: dict[object, Path] = field(default_factory=dict)  # identity -> as given
+    outputs: dict[str, str] = field(default_factory=dict)  # real path -> what it is
 
 
-_RUN: contextvars.ContextVar[_RunFiles | None] = contextvars.ContextVar("mvtools_run_files",
-                                                                          default=None)
+_RUN: contextvars.ContextVar[_RunFiles | None] = contextvars.ContextVar(
+    "mvtools_run_files", default=None
+)
 
 
 @contextlib.contextmanager
@@ -82,12 +83,16 @@ def check_output(path: str | os.PathLike, what: str = "output") -> None:
         if identity in run.inputs:
             given = run.inputs[identity]
             same = "" if given == path else f" ({given})"
-            raise UsageError(f"the {what} would overwrite an input{same}: give it another "
-                             "name or folder", path=path)
+            raise UsageError(
+                f"the {what} would overwrite an input{same}: give it another name or folder",
+                path=path,
+            )
     earlier = run.outputs.get(os.path.realpath(path))
     if earlier is not None:
-        raise UsageError(f"the {what} is already the {earlier} of this run: give each "
-                         "output its own name", path=path)
+        raise UsageError(
+            f"the {what} is already the {earlier} of this run: give each output its own name",
+            path=path,
+        )
 
 
 def check_outputs(outputs: Iterable[tuple[str | os.PathLike, str]]) -> None:
@@ -99,8 +104,10 @@ def check_outputs(outputs: Iterable[tuple[str | os.PathLike, str]]) -> None:
         check_output(path, what)
         real = os.path.realpath(path)
         if real in seen:
-            raise UsageError(f"the {what} and the {seen[real]} are one file: give each "
-                             "output its own name", path=path)
+            raise UsageError(
+                f"the {what} and the {seen[real]} are one file: give each output its own name",
+                path=path,
+            )
         seen[real] = what
 
 

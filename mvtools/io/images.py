@@ -22,7 +22,7 @@ from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import atomic_output
 from mvtools.io.files import read_bytes
 
-__all__ = ["read_image", "write_image", "encode_image", "read_pfm", "write_pfm", "IMAGE_EXTENSIONS"]
+__all__ = ["IMAGE_EXTENSIONS", "encode_image", "read_image", "read_pfm", "write_image", "write_pfm"]
 
 logger = logging.getLogger(__name__)
 
@@ -31,8 +31,17 @@ logger = logging.getLogger(__name__)
 cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)
 
 # Extensions written through OpenCV, and whether they hold 16-bit samples.
-_CV2_EXTENSIONS = {".png": True, ".pgm": True, ".ppm": True, ".pnm": True, ".tif": True,
-                   ".tiff": True, ".jpg": False, ".jpeg": False, ".bmp": False}
+_CV2_EXTENSIONS = {
+    ".png": True,
+    ".pgm": True,
+    ".ppm": True,
+    ".pnm": True,
+    ".tif": True,
+    ".tiff": True,
+    ".jpg": False,
+    ".jpeg": False,
+    ".bmp": False,
+}
 IMAGE_EXTENSIONS = (*_CV2_EXTENSIONS, ".pfm")
 
 _PFM_HEADER = re.compile(rb"^(P[Ff])\s+(\d+)\s+(\d+)\s+([-+]?[0-9.]+(?:[eE][-+]?\d+)?)\s")
@@ -68,8 +77,11 @@ def read_image(path: str | os.PathLike, *, grayscale: bool = False) -> np.ndarra
         data = read_bytes(path, "image")
         image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
         if image is None:
-            raise DataError(f"cannot decode the image ({len(data)} bytes; not a PNG, PGM, "
-                            f"JPEG, BMP or TIFF file, or damaged)", path=path)
+            raise DataError(
+                f"cannot decode the image ({len(data)} bytes; not a PNG, PGM, "
+                f"JPEG, BMP or TIFF file, or damaged)",
+                path=path,
+            )
         image = _from_opencv(image, path)
     if grayscale and image.ndim == 3:
         image = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)
@@ -118,8 +130,11 @@ def write_image(path: str | os.PathLike, array: np.ndarray, *, jpeg_quality: int
         write_pfm(path, array)
         return
     if ext not in _CV2_EXTENSIONS:
-        raise UsageError(f"cannot write images of type {ext or '(no extension)'!r}; "
-                         f"use one of {', '.join(IMAGE_EXTENSIONS)}", path=path)
+        raise UsageError(
+            f"cannot write images of type {ext or '(no extension)'!r}; "
+            f"use one of {', '.join(IMAGE_EXTENSIONS)}",
+            path=path,
+        )
     encoded = encode_image(array, ext, jpeg_quality=jpeg_quality)
     with atomic_output(path, "wb") as handle:
         handle.write(encoded)
@@ -137,8 +152,10 @@ def encode_image(array: np.ndarray, ext: str = ".png", *, jpeg_quality: int = 95
         raise ValueError(f"an image must have shape (H, W) or (H, W, 3), got {array.shape}")
     allowed = (np.uint8, np.uint16) if _CV2_EXTENSIONS[ext] else (np.uint8,)
     if array.dtype not in [np.dtype(t) for t in allowed]:
-        raise ValueError(f"{ext} images take {' or '.join(np.dtype(t).name for t in allowed)} "
-                         f"samples, got {array.dtype}")
+        raise ValueError(
+            f"{ext} images take {' or '.join(np.dtype(t).name for t in allowed)} "
+            f"samples, got {array.dtype}"
+        )
     if ext == ".pgm" and array.ndim == 3:
         raise ValueError(f".pgm holds grey images, got shape {array.shape}; use .ppm or .png")
     if array.ndim == 3:
@@ -172,15 +189,23 @@ def read_pfm(path: str | os.PathLike) -> np.ndarray:
     match = _PFM_HEADER.match(data[:256])
     if match is None:
         raise DataError("not a PFM file (header 'PF|Pf width height scale' expected)", path=path)
-    kind, width, height, scale = match.group(1), int(match.group(2)), int(match.group(3)), float(match.group(4))
+    kind, width, height, scale = (
+        match.group(1),
+        int(match.group(2)),
+        int(match.group(3)),
+        float(match.group(4)),
+    )
     if scale == 0 or width == 0 or height == 0:
         raise DataError(f"bad PFM header: size {width}x{height}, scale {scale}", path=path)
     channels = 3 if kind == b"PF" else 1
     expected = width * height * channels * 4
     payload = len(data) - match.end()
     if payload < expected:
-        raise DataError(f"PFM {width}x{height}x{channels} needs {expected} bytes of samples, "
-                        f"the file has {payload}", path=path)
+        raise DataError(
+            f"PFM {width}x{height}x{channels} needs {expected} bytes of samples, "
+            f"the file has {payload}",
+            path=path,
+        )
     if payload > expected:
         logger.warning("%s: %d bytes after the PFM samples ignored", path, payload - expected)
     dtype = np.dtype("<f4" if scale < 0 else ">f4")

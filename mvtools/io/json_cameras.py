@@ -47,10 +47,21 @@ from mvtools.io.atomic import atomic_output
 from mvtools.io.cameras import read_cameras, store_camera
 from mvtools.io.files import json_numbers, read_text
 
-__all__ = ["read_json_cameras", "read_json_sequence", "write_json_cameras",
-           "write_json_sequence", "read_camera_file", "JsonSequence", "VideoDescription",
-           "OMAF_TO_CAMERA", "JSON_VERSION", "RVS_FAR_LIMIT", "PIXEL_CENTRE_OFFSET",
-           "rotation_from_euler", "euler_from_rotation"]
+__all__ = [
+    "JSON_VERSION",
+    "OMAF_TO_CAMERA",
+    "PIXEL_CENTRE_OFFSET",
+    "RVS_FAR_LIMIT",
+    "JsonSequence",
+    "VideoDescription",
+    "euler_from_rotation",
+    "read_camera_file",
+    "read_json_cameras",
+    "read_json_sequence",
+    "rotation_from_euler",
+    "write_json_cameras",
+    "write_json_sequence",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -178,19 +189,26 @@ def _read_document(path: Path):
     try:
         return json.loads(read_text(path, "camera file"), parse_float=_JsonFloat)
     except json.JSONDecodeError as err:
-        raise ConfigError(f"invalid JSON: {err.msg} (column {err.colno})", path=path,
-                          line=err.lineno) from None
+        raise ConfigError(
+            f"invalid JSON: {err.msg} (column {err.colno})", path=path, line=err.lineno
+        ) from None
 
 
-def _integer(entry: dict, field: str, default: int, *, path: Path, key: str,
-             minimum: int = 0) -> int:
+def _integer(
+    entry: dict, field: str, default: int, *, path: Path, key: str, minimum: int = 0
+) -> int:
     value = entry.get(field)
     if value is None:
         return default
-    if (isinstance(value, bool) or not isinstance(value, (int, float))
-            or not float(value).is_integer() or value < minimum):
-        raise ConfigError(f"{field} must be an integer >= {minimum}, got {json.dumps(value)}",
-                          path=path, key=key)
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, float))
+        or not float(value).is_integer()
+        or value < minimum
+    ):
+        raise ConfigError(
+            f"{field} must be an integer >= {minimum}, got {json.dumps(value)}", path=path, key=key
+        )
     return int(value)
 
 
@@ -199,16 +217,18 @@ def _flag(entry: dict, field: str, default: bool, *, path: Path, key: str) -> bo
     if value is None:
         return default
     if value not in (0, 1):
-        raise ConfigError(f"{field} must be 0, 1, true or false, got {json.dumps(value)}",
-                          path=path, key=key)
+        raise ConfigError(
+            f"{field} must be 0, 1, true or false, got {json.dumps(value)}", path=path, key=key
+        )
     return bool(value)
 
 
 def _string(entry: dict, field: str, default: str, *, path: Path, key: str) -> str:
     value = entry.get(field, default)
     if not isinstance(value, str) or not value:
-        raise ConfigError(f"{field} must be a non-empty string, got {json.dumps(value)}",
-                          path=path, key=key)
+        raise ConfigError(
+            f"{field} must be a non-empty string, got {json.dumps(value)}", path=path, key=key
+        )
     return value
 
 
@@ -220,8 +240,9 @@ def _camera_from_json(entry: object, index: int, path: Path) -> tuple[Camera, Vi
         raise ConfigError("Name must be a non-empty string", path=path, key=f"cameras[{index}]")
     projection = entry.get("Projection")
     if projection != "Perspective":
-        raise ConfigError(f"projection {projection!r} is not supported (only 'Perspective')",
-                          path=path, key=name)
+        raise ConfigError(
+            f"projection {projection!r} is not supported (only 'Perspective')", path=path, key=name
+        )
     position = json_numbers(entry, "Position", 3, path=path, key=name)
     yaw, pitch, roll = json_numbers(entry, "Rotation", 3, path=path, key=name)
     fx, fy = json_numbers(entry, "Focal", 2, path=path, key=name)
@@ -230,15 +251,23 @@ def _camera_from_json(entry: object, index: int, path: Path) -> tuple[Camera, Vi
     resolution = json_numbers(entry, "Resolution", 2, path=path, key=name, required=False)
     depth_range = json_numbers(entry, "Depth_range", 2, path=path, key=name, required=False)
     if resolution is not None and not all(x.is_integer() and x > 0 for x in resolution):
-        raise ConfigError(f"Resolution must be two positive integers, got {resolution}",
-                          path=path, key=name)
+        raise ConfigError(
+            f"Resolution must be two positive integers, got {resolution}", path=path, key=name
+        )
     if depth_range is not None and not 0 < depth_range[0] < depth_range[1]:
-        raise ConfigError(f"Depth_range must be [near, far] with 0 < near < far, got "
-                          f"{depth_range}", path=path, key=name)
-    camera = Camera(name=name, K=[[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]],
-                    R=OMAF_TO_CAMERA @ rotation_from_euler(yaw, pitch, roll).T, t=position,
-                    size=None if resolution is None else (int(resolution[0]), int(resolution[1])),
-                    depth_range=None if depth_range is None else tuple(depth_range))
+        raise ConfigError(
+            f"Depth_range must be [near, far] with 0 < near < far, got {depth_range}",
+            path=path,
+            key=name,
+        )
+    camera = Camera(
+        name=name,
+        K=[[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]],
+        R=OMAF_TO_CAMERA @ rotation_from_euler(yaw, pitch, roll).T,
+        t=position,
+        size=None if resolution is None else (int(resolution[0]), int(resolution[1])),
+        depth_range=None if depth_range is None else tuple(depth_range),
+    )
     # An absent HasInvalidDepth means true to RVS, which keeps the files of RVS 2 valid.
     video = VideoDescription(
         bit_depth_color=_integer(entry, "BitDepthColor", 8, path=path, key=name, minimum=1),
@@ -247,7 +276,8 @@ def _camera_from_json(entry: object, index: int, path: Path) -> tuple[Camera, Vi
         depth_color_space=_string(entry, "DepthColorSpace", "YUV420", path=path, key=name),
         has_depth_map=_flag(entry, "Depthmap", True, path=path, key=name),
         background=_flag(entry, "Background", False, path=path, key=name),
-        has_invalid_depth=_flag(entry, "HasInvalidDepth", True, path=path, key=name))
+        has_invalid_depth=_flag(entry, "HasInvalidDepth", True, path=path, key=name),
+    )
     return camera, video
 
 
@@ -288,14 +318,18 @@ def read_json_sequence(path: str | os.PathLike) -> JsonSequence:
         videos[camera.name] = video
     fps = document.get("Fps", DEFAULT_FPS)
     if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not 0 < fps < math.inf:
-        raise ConfigError(f"Fps must be a positive number, got {json.dumps(fps)}", path=path,
-                          key="Fps")
+        raise ConfigError(
+            f"Fps must be a positive number, got {json.dumps(fps)}", path=path, key="Fps"
+        )
     return JsonSequence(
-        cameras=cameras, videos=videos,
+        cameras=cameras,
+        videos=videos,
         content_name=_string(document, "Content_name", path.stem, path=path, key="Content_name"),
         fps=float(fps),
-        frame_count=_integer(document, "Frames_number", 1, path=path, key="Frames_number",
-                             minimum=1))
+        frame_count=_integer(
+            document, "Frames_number", 1, path=path, key="Frames_number", minimum=1
+        ),
+    )
 
 
 def read_json_cameras(path: str | os.PathLike) -> dict[str, Camera]:
@@ -310,33 +344,55 @@ def _scene_side(depth_range: tuple[float, float], name: str, path: Path) -> int:
         return 1
     if -math.inf < far < near < 0:
         return -1
-    raise UsageError(f"camera {name!r}: depth range (near {near:g}, far {far:g}) needs "
-                     "0 < near < far, or far < near < 0 for a scene at negative z, both "
-                     "finite", path=path)
+    raise UsageError(
+        f"camera {name!r}: depth range (near {near:g}, far {far:g}) needs "
+        "0 < near < far, or far < near < 0 for a scene at negative z, both "
+        "finite",
+        path=path,
+    )
 
 
 def _facing_scene(cameras: list[Camera], depth_range, path: Path) -> list[Camera]:
     """The cameras with their depth ranges filled in, in a world where they face their scene."""
-    cameras = [camera if camera.depth_range is not None or depth_range is None
-               else replace(camera, depth_range=tuple(depth_range)) for camera in cameras]
-    sides = {camera.name: _scene_side(camera.depth_range, camera.name, path)
-             for camera in cameras if camera.depth_range is not None}
+    cameras = [
+        camera
+        if camera.depth_range is not None or depth_range is None
+        else replace(camera, depth_range=tuple(depth_range))
+        for camera in cameras
+    ]
+    sides = {
+        camera.name: _scene_side(camera.depth_range, camera.name, path)
+        for camera in cameras
+        if camera.depth_range is not None
+    }
     if -1 not in sides.values():
         return cameras
     if 1 in sides.values():
         front = next(name for name, side in sides.items() if side == 1)
         behind = next(name for name, side in sides.items() if side == -1)
-        raise UsageError(f"camera {front!r} has a positive depth range and camera {behind!r} "
-                         "a negative one; one world cannot hold both", path=path)
-    logger.warning("%s: the depth ranges are negative (scene at negative z, as VSRS allows); "
-                   "the cameras are written in the world reflected through its origin "
-                   "(Position = -t) where they face the scene with positive depths", path)
+        raise UsageError(
+            f"camera {front!r} has a positive depth range and camera {behind!r} "
+            "a negative one; one world cannot hold both",
+            path=path,
+        )
+    logger.warning(
+        "%s: the depth ranges are negative (scene at negative z, as VSRS allows); "
+        "the cameras are written in the world reflected through its origin "
+        "(Position = -t) where they face the scene with positive depths",
+        path,
+    )
     # x_cam = R (X - t) becomes -x_cam for X -> -X and t -> -t: the same pixels, with
     # the scene at positive depth.
-    return [replace(camera, t=-camera.t,
-                    depth_range=None if camera.depth_range is None
-                    else (-camera.depth_range[0], -camera.depth_range[1]))
-            for camera in cameras]
+    return [
+        replace(
+            camera,
+            t=-camera.t,
+            depth_range=None
+            if camera.depth_range is None
+            else (-camera.depth_range[0], -camera.depth_range[1]),
+        )
+        for camera in cameras
+    ]
 
 
 def _json_pixel_coordinate(coordinate: float) -> float | _JsonText:
@@ -348,7 +404,7 @@ def _json_pixel_coordinate(coordinate: float) -> float | _JsonText:
     # The sum needs one bit more than a float holds (it crossed a power of two): its
     # denominator is 2**k, so it has an exact decimal of k digits after the point.
     k = exact.denominator.bit_length() - 1
-    digits = str(abs(exact.numerator) * 5 ** k).rjust(k + 1, "0")
+    digits = str(abs(exact.numerator) * 5**k).rjust(k + 1, "0")
     sign = "-" if exact < 0 else ""
     return _JsonText(f"{sign}{digits[:-k]}.{digits[-k:]}")
 
@@ -356,46 +412,65 @@ def _json_pixel_coordinate(coordinate: float) -> float | _JsonText:
 def _camera_to_json(camera: Camera, size, video: VideoDescription, path: Path) -> dict:
     k = camera.K
     if k[0, 1] != 0 or k[1, 0] != 0 or np.any(k[2] != [0, 0, 1]):
-        raise UsageError(f"camera {camera.name!r}: K has skew or is not [[fx 0 cx] [0 fy cy] "
-                         "[0 0 1]]; MPEG-I JSON cannot store it", path=path)
+        raise UsageError(
+            f"camera {camera.name!r}: K has skew or is not [[fx 0 cx] [0 fy cy] "
+            "[0 0 1]]; MPEG-I JSON cannot store it",
+            path=path,
+        )
     if np.any(camera.distortion != 0):
-        raise UsageError(f"camera {camera.name!r} has lens distortion, which MPEG-I JSON "
-                         "cannot store", path=path)
+        raise UsageError(
+            f"camera {camera.name!r} has lens distortion, which MPEG-I JSON cannot store", path=path
+        )
     rotation_json = camera.R.T @ OMAF_TO_CAMERA
     error = float(np.abs(rotation_json @ rotation_json.T - np.eye(3)).max())
     if error > _ROTATION_TOLERANCE or np.linalg.det(rotation_json) < 0:
-        raise UsageError(f"camera {camera.name!r}: R is not a rotation (max |R R^T - I| = "
-                         f"{error:.3g}, det {np.linalg.det(rotation_json):.3g}), so it has no "
-                         "yaw/pitch/roll", path=path)
-    entry: dict = {"Name": camera.name,
-                   "Position": [float(x) for x in camera.t],
-                   "Rotation": list(euler_from_rotation(rotation_json)),
-                   "Depthmap": int(video.has_depth_map),
-                   "Background": int(video.background)}
+        raise UsageError(
+            f"camera {camera.name!r}: R is not a rotation (max |R R^T - I| = "
+            f"{error:.3g}, det {np.linalg.det(rotation_json):.3g}), so it has no "
+            "yaw/pitch/roll",
+            path=path,
+        )
+    entry: dict = {
+        "Name": camera.name,
+        "Position": [float(x) for x in camera.t],
+        "Rotation": list(euler_from_rotation(rotation_json)),
+        "Depthmap": int(video.has_depth_map),
+        "Background": int(video.background),
+    }
     size = camera.size if camera.size is not None else size
     if camera.depth_range is not None:
         entry["Depth_range"] = [float(x) for x in camera.depth_range]
     if size is not None:
         entry["Resolution"] = [int(x) for x in size]
-    entry.update({"Projection": "Perspective",
-                  "Focal": [camera.fx, camera.fy],
-                  "Principle_point": [_json_pixel_coordinate(camera.cx),
-                                      _json_pixel_coordinate(camera.cy)],
-                  "BitDepthColor": video.bit_depth_color,
-                  "BitDepthDepth": video.bit_depth_depth,
-                  "ColorSpace": video.color_space,
-                  "DepthColorSpace": video.depth_color_space,
-                  "HasInvalidDepth": video.has_invalid_depth})
+    entry.update(
+        {
+            "Projection": "Perspective",
+            "Focal": [camera.fx, camera.fy],
+            "Principle_point": [
+                _json_pixel_coordinate(camera.cx),
+                _json_pixel_coordinate(camera.cy),
+            ],
+            "BitDepthColor": video.bit_depth_color,
+            "BitDepthDepth": video.bit_depth_depth,
+            "ColorSpace": video.color_space,
+            "DepthColorSpace": video.depth_color_space,
+            "HasInvalidDepth": video.has_invalid_depth,
+        }
+    )
     return entry
 
 
-def write_json_cameras(path: str | os.PathLike, cameras: Iterable[Camera] | Mapping[str, Camera],
-                       *, size: tuple[int, int] | None = None,
-                       depth_range: tuple[float, float] | None = None,
-                       video: VideoDescription | Mapping[str, VideoDescription]
-                       = VideoDescription(),
-                       content_name: str | None = None, fps: float = DEFAULT_FPS,
-                       frame_count: int = 1) -> None:
+def write_json_cameras(
+    path: str | os.PathLike,
+    cameras: Iterable[Camera] | Mapping[str, Camera],
+    *,
+    size: tuple[int, int] | None = None,
+    depth_range: tuple[float, float] | None = None,
+    video: VideoDescription | Mapping[str, VideoDescription] = VideoDescription(),
+    content_name: str | None = None,
+    fps: float = DEFAULT_FPS,
+    frame_count: int = 1,
+) -> None:
     """Write cameras as a complete MPEG-I sequence file, as RVS 4.0 and TMIV read it.
 
     Parameters
@@ -427,38 +502,59 @@ def write_json_cameras(path: str | os.PathLike, cameras: Iterable[Camera] | Mapp
     if isinstance(cameras, Mapping):
         cameras = cameras.values()
     if not 0 < fps < math.inf or frame_count < 1:
-        raise UsageError(f"need Fps > 0 and Frames_number >= 1, got {fps:g} and {frame_count}",
-                         path=path)
+        raise UsageError(
+            f"need Fps > 0 and Frames_number >= 1, got {fps:g} and {frame_count}", path=path
+        )
     entries = []
     for camera in _facing_scene(list(cameras), depth_range, path):
-        description = video.get(camera.name, VideoDescription()) \
-            if isinstance(video, Mapping) else video
+        description = (
+            video.get(camera.name, VideoDescription()) if isinstance(video, Mapping) else video
+        )
         entries.append(_camera_to_json(camera, size, description, path))
-    too_far = [entry["Name"] for entry in entries
-               if "Depth_range" in entry and entry["Depth_range"][1] > RVS_FAR_LIMIT]
+    too_far = [
+        entry["Name"]
+        for entry in entries
+        if "Depth_range" in entry and entry["Depth_range"][1] > RVS_FAR_LIMIT
+    ]
     if too_far:
-        logger.warning("%s: far depth above %g for camera %s, which RVS refuses (%g stands for "
-                       "infinity there); a larger world unit brings it below", path,
-                       RVS_FAR_LIMIT, ", ".join(too_far), RVS_FAR_LIMIT)
+        logger.warning(
+            "%s: far depth above %g for camera %s, which RVS refuses (%g stands for "
+            "infinity there); a larger world unit brings it below",
+            path,
+            RVS_FAR_LIMIT,
+            ", ".join(too_far),
+            RVS_FAR_LIMIT,
+        )
     for field in ("Depth_range", "Resolution"):
         lacking = [entry["Name"] for entry in entries if field not in entry]
         if lacking:
-            logger.warning("%s: no %s for camera %s, which RVS and TMIV require", path, field,
-                           ", ".join(lacking))
-    document = {"Version": JSON_VERSION,
-                "Content_name": content_name if content_name is not None else path.stem,
-                "Fps": int(fps) if float(fps).is_integer() else float(fps),
-                "Frames_number": int(frame_count),
-                "cameras": entries}
+            logger.warning(
+                "%s: no %s for camera %s, which RVS and TMIV require",
+                path,
+                field,
+                ", ".join(lacking),
+            )
+    document = {
+        "Version": JSON_VERSION,
+        "Content_name": content_name if content_name is not None else path.stem,
+        "Fps": int(fps) if float(fps).is_integer() else float(fps),
+        "Frames_number": int(frame_count),
+        "cameras": entries,
+    }
     with atomic_output(path, "w") as handle:
         handle.write(_format_document(document))
 
 
 def write_json_sequence(path: str | os.PathLike, sequence: JsonSequence) -> None:
     """Write a sequence read by :func:`read_json_sequence`, its fields kept."""
-    write_json_cameras(path, sequence.cameras, video=sequence.videos,
-                       content_name=sequence.content_name, fps=sequence.fps,
-                       frame_count=sequence.frame_count)
+    write_json_cameras(
+        path,
+        sequence.cameras,
+        video=sequence.videos,
+        content_name=sequence.content_name,
+        fps=sequence.fps,
+        frame_count=sequence.frame_count,
+    )
 
 
 def _value_text(value) -> str:
@@ -471,19 +567,24 @@ def _value_text(value) -> str:
 
 def _format_document(document: dict) -> str:
     """One field a line, each list on its field's line, the cameras one object each."""
-    fields = [f"    {json.dumps(key)}: {_value_text(value)}"
-              for key, value in document.items() if key != "cameras"]
+    fields = [
+        f"    {json.dumps(key)}: {_value_text(value)}"
+        for key, value in document.items()
+        if key != "cameras"
+    ]
     cameras = []
     for entry in document["cameras"]:
-        lines = ",\n".join(f"            {json.dumps(key)}: {_value_text(value)}"
-                           for key, value in entry.items())
+        lines = ",\n".join(
+            f"            {json.dumps(key)}: {_value_text(value)}" for key, value in entry.items()
+        )
         cameras.append(f"        {{\n{lines}\n        }}")
     fields.append('    "cameras": [\n' + ",\n".join(cameras) + "\n    ]")
     return "{\n" + ",\n".join(fields) + "\n}\n"
 
 
-def read_camera_file(path: str | os.PathLike, *, transposed_rotation: bool = False
-                     ) -> dict[str, Camera]:
+def read_camera_file(
+    path: str | os.PathLike, *, transposed_rotation: bool = False
+) -> dict[str, Camera]:
     """Cameras of an MPEG-I JSON file (``.json``) or else an MPEG camera parameter file.
 
     ``transposed_rotation`` applies to the MPEG text format, see

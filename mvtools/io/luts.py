@@ -27,7 +27,7 @@ from mvtools.errors import ConfigError
 from mvtools.io.atomic import atomic_output
 from mvtools.io.files import read_text
 
-__all__ = ["read_lut", "write_lut", "read_cube", "write_cube", "read_matrix", "write_matrix"]
+__all__ = ["read_cube", "read_lut", "read_matrix", "write_cube", "write_lut", "write_matrix"]
 
 
 def write_lut(path: str | os.PathLike, table: np.ndarray, *, channels: tuple[str, ...]) -> None:
@@ -45,8 +45,10 @@ def write_lut(path: str | os.PathLike, table: np.ndarray, *, channels: tuple[str
     if len(channels) != table.shape[0]:
         raise ValueError(f"{table.shape[0]} tables but {len(channels)} channel names")
     lines = [f"# mvtools colour table: channels {' '.join(channels)}, {table.shape[1]} codes"]
-    lines += [f"{code} " + " ".join(f"{value:.3f}" for value in table[:, code])
-              for code in range(table.shape[1])]
+    lines += [
+        f"{code} " + " ".join(f"{value:.3f}" for value in table[:, code])
+        for code in range(table.shape[1])
+    ]
     with atomic_output(path, "w") as handle:
         handle.write("\n".join(lines) + "\n")
 
@@ -72,14 +74,19 @@ def read_lut(path: str | os.PathLike) -> tuple[np.ndarray, tuple[str, ...]]:
         try:
             code, *values = int(fields[0]), *(float(field) for field in fields[1:])
         except ValueError:
-            raise ConfigError(f"expected a code and a value per channel, got {text.strip()!r}",
-                              path=path, line=number) from None
+            raise ConfigError(
+                f"expected a code and a value per channel, got {text.strip()!r}",
+                path=path,
+                line=number,
+            ) from None
         if code != len(rows):
-            raise ConfigError(f"code {code} where code {len(rows)} was due", path=path,
-                              line=number)
+            raise ConfigError(f"code {code} where code {len(rows)} was due", path=path, line=number)
         if rows and len(values) != len(rows[0]):
-            raise ConfigError(f"{len(values)} values where earlier lines have {len(rows[0])}",
-                              path=path, line=number)
+            raise ConfigError(
+                f"{len(values)} values where earlier lines have {len(rows[0])}",
+                path=path,
+                line=number,
+            )
         rows.append(values)
     if len(rows) < 2:
         raise ConfigError("a colour table needs at least two codes", path=path)
@@ -89,8 +96,9 @@ def read_lut(path: str | os.PathLike) -> tuple[np.ndarray, tuple[str, ...]]:
     return table, channels
 
 
-def write_cube(path: str | os.PathLike, table: np.ndarray, *, max_value: float,
-               title: str | None = None) -> None:
+def write_cube(
+    path: str | os.PathLike, table: np.ndarray, *, max_value: float, title: str | None = None
+) -> None:
     """Write a ``.cube`` file, atomically.
 
     Parameters
@@ -109,12 +117,12 @@ def write_cube(path: str | os.PathLike, table: np.ndarray, *, max_value: float,
     elif table.ndim == 4 and table.shape[3] == 3 and len(set(table.shape[:3])) == 1:
         header, rows = f"LUT_3D_SIZE {table.shape[0]}", table.reshape(-1, 3)
     else:
-        raise ValueError(f"a .cube holds (3, L) tables or an (N, N, N, 3) cube, got "
-                         f"{table.shape}")
+        raise ValueError(f"a .cube holds (3, L) tables or an (N, N, N, 3) cube, got {table.shape}")
     lines = [f'TITLE "{title}"'] if title else []
     lines += [header, "DOMAIN_MIN 0.0 0.0 0.0", "DOMAIN_MAX 1.0 1.0 1.0"]
-    lines += [" ".join(f"{value:.6f}" for value in np.clip(row / max_value, 0.0, 1.0))
-              for row in rows]
+    lines += [
+        " ".join(f"{value:.6f}" for value in np.clip(row / max_value, 0.0, 1.0)) for row in rows
+    ]
     with atomic_output(path, "w") as handle:
         handle.write("\n".join(lines) + "\n")
 
@@ -139,24 +147,29 @@ def read_cube(path: str | os.PathLike) -> np.ndarray:
             try:
                 size = int(text.split()[1])
             except (IndexError, ValueError):
-                raise ConfigError(f"{keyword} needs a whole number", path=path,
-                                  line=number) from None
+                raise ConfigError(
+                    f"{keyword} needs a whole number", path=path, line=number
+                ) from None
             three_d = keyword == "LUT_3D_SIZE"
             continue
-        if keyword in ("TITLE", "DOMAIN_MIN", "DOMAIN_MAX", "LUT_1D_INPUT_RANGE",
-                       "LUT_3D_INPUT_RANGE"):
+        if keyword in (
+            "TITLE",
+            "DOMAIN_MIN",
+            "DOMAIN_MAX",
+            "LUT_1D_INPUT_RANGE",
+            "LUT_3D_INPUT_RANGE",
+        ):
             continue
         try:
             values = [float(field) for field in text.split()]
         except ValueError:
             raise ConfigError(f"unknown line {text!r}", path=path, line=number) from None
         if len(values) != 3:
-            raise ConfigError(f"expected three values, got {len(values)}", path=path,
-                              line=number)
+            raise ConfigError(f"expected three values, got {len(values)}", path=path, line=number)
         rows.append(values)
     if size is None:
         raise ConfigError("no LUT_1D_SIZE or LUT_3D_SIZE line", path=path)
-    expected = size ** 3 if three_d else size
+    expected = size**3 if three_d else size
     if len(rows) != expected:
         raise ConfigError(f"{len(rows)} entries where the size asks for {expected}", path=path)
     rows = np.array(rows)
@@ -168,8 +181,10 @@ def write_matrix(path: str | os.PathLike, matrix: np.ndarray) -> None:
     matrix = np.asarray(matrix, dtype=np.float64)
     if matrix.shape not in ((3, 3), (4, 3)):
         raise ValueError(f"a colour matrix is (3, 3) or (4, 3), got {matrix.shape}")
-    lines = ["# mvtools colour matrix, row vectors: corrected linear RGB = "
-             + ("[r g b] @ M" if matrix.shape[0] == 3 else "[r g b 1] @ M")]
+    lines = [
+        "# mvtools colour matrix, row vectors: corrected linear RGB = "
+        + ("[r g b] @ M" if matrix.shape[0] == 3 else "[r g b 1] @ M")
+    ]
     lines += [" ".join(f"{value:.9f}" for value in row) for row in matrix]
     with atomic_output(path, "w") as handle:
         handle.write("\n".join(lines) + "\n")

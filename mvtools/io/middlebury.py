@@ -28,8 +28,14 @@ import numpy as np
 from mvtools.errors import DataError, UsageError
 from mvtools.io.images import read_image
 
-__all__ = ["MiddleburySet", "MIDDLEBURY_SETS", "read_ground_truth", "read_nonoccluded_mask",
-           "middlebury_set_for", "check_same_size"]
+__all__ = [
+    "MIDDLEBURY_SETS",
+    "MiddleburySet",
+    "check_same_size",
+    "middlebury_set_for",
+    "read_ground_truth",
+    "read_nonoccluded_mask",
+]
 
 
 @dataclass(frozen=True)
@@ -67,26 +73,55 @@ class MiddleburySet:
 
 
 def _set_2005(scene: str) -> MiddleburySet:
-    return MiddleburySet(scene, f"2005/{scene}/view1.png", f"2005/{scene}/view5.png",
-                         f"2005/{scene}/disp1.png", 3, 80,
-                         right_ground_truth=f"2005/{scene}/disp5.png")
+    return MiddleburySet(
+        scene,
+        f"2005/{scene}/view1.png",
+        f"2005/{scene}/view5.png",
+        f"2005/{scene}/disp1.png",
+        3,
+        80,
+        right_ground_truth=f"2005/{scene}/disp5.png",
+    )
 
 
 MIDDLEBURY_SETS: dict[str, MiddleburySet] = {
-    s.name: s for s in (
-        MiddleburySet("tsukuba", "2001/tsukuba/tsukuba3.png", "2001/tsukuba/tsukuba4.png",
-                      "2001/tsukuba/disp3.pgm", 16, 16),
-        MiddleburySet("venus", "2001/venus/im2.png", "2001/venus/im6.png",
-                      "2001/venus/disp2.pgm", 8, 32),
-        MiddleburySet("teddy", "2003/teddy/im2.png", "2003/teddy/im6.png",
-                      "2003/teddy/disp2.png", 4, 64, nonoccluded_mask="2003/teddy/occl.png"),
-        MiddleburySet("cones", "2003/cones/im2.png", "2003/cones/im6.png",
-                      "2003/cones/disp2.png", 4, 64, nonoccluded_mask="2003/cones/occl.png"),
+    s.name: s
+    for s in (
+        MiddleburySet(
+            "tsukuba",
+            "2001/tsukuba/tsukuba3.png",
+            "2001/tsukuba/tsukuba4.png",
+            "2001/tsukuba/disp3.pgm",
+            16,
+            16,
+        ),
+        MiddleburySet(
+            "venus", "2001/venus/im2.png", "2001/venus/im6.png", "2001/venus/disp2.pgm", 8, 32
+        ),
+        MiddleburySet(
+            "teddy",
+            "2003/teddy/im2.png",
+            "2003/teddy/im6.png",
+            "2003/teddy/disp2.png",
+            4,
+            64,
+            nonoccluded_mask="2003/teddy/occl.png",
+        ),
+        MiddleburySet(
+            "cones",
+            "2003/cones/im2.png",
+            "2003/cones/im6.png",
+            "2003/cones/disp2.png",
+            4,
+            64,
+            nonoccluded_mask="2003/cones/occl.png",
+        ),
         _set_2005("Art"),
         _set_2005("Dolls"),
         _set_2005("Moebius"),
-        MiddleburySet("aloe", "2006/aloe/aloeL.jpg", "2006/aloe/aloeR.jpg",
-                      "2006/aloe/aloeGT.png", 1),
+        MiddleburySet(
+            "aloe", "2006/aloe/aloeL.jpg", "2006/aloe/aloeR.jpg", "2006/aloe/aloeGT.png", 1
+        ),
     )
 }
 
@@ -116,12 +151,15 @@ def read_ground_truth(path: str | os.PathLike, *, scale: float) -> tuple[np.ndar
         A file that is not a single-channel image.
     """
     if not scale > 0:
-        raise UsageError(f"the ground-truth scale must be positive, got {scale}",
-                         path=path, key="scale")
+        raise UsageError(
+            f"the ground-truth scale must be positive, got {scale}", path=path, key="scale"
+        )
     values = read_image(path)
     if values.ndim != 2:
-        raise DataError(f"a ground-truth disparity map has one channel, this image has "
-                        f"{values.shape[2]}", path=path)
+        raise DataError(
+            f"a ground-truth disparity map has one channel, this image has {values.shape[2]}",
+            path=path,
+        )
     known = np.isfinite(values) & (values != 0)
     disparity = np.where(known, values.astype(np.float64) / scale, 0.0).astype(np.float32)
     return disparity, known
@@ -149,5 +187,8 @@ def middlebury_set_for(ground_truth_path: str | os.PathLike) -> MiddleburySet | 
 def check_same_size(image: np.ndarray, ground_truth: np.ndarray, path: str | os.PathLike) -> None:
     """DataError unless a mask or map read from ``path`` has the ground truth's size."""
     if image.shape != ground_truth.shape:
-        raise DataError(f"size {image.shape[1]}x{image.shape[0]} differs from the ground "
-                        f"truth's {ground_truth.shape[1]}x{ground_truth.shape[0]}", path=path)
+        raise DataError(
+            f"size {image.shape[1]}x{image.shape[0]} differs from the ground "
+            f"truth's {ground_truth.shape[1]}x{ground_truth.shape[0]}",
+            path=path,
+        )

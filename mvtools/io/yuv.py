@@ -25,9 +25,9 @@ import dataclasses
 import logging
 import os
 import re
+from collections.abc import Iterable, Iterator, Sequence
 from fractions import Fraction
 from pathlib import Path
-from typing import Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -36,9 +36,22 @@ from mvtools.io.atomic import atomic_output
 from mvtools.io.guard import note_input
 
 __all__ = [
-    "CHROMA_FORMATS", "BIT_DEPTHS", "DEFAULT_FRAME_RATE", "SUPPORTED_PIX_FMTS", "YuvFormat",
-    "format_from_name", "guess_format", "open_video", "open_writer", "read_frame", "write_video",
-    "frame_from_luma", "VideoReader", "RawVideoReader", "Y4mReader", "VideoWriter",
+    "BIT_DEPTHS",
+    "CHROMA_FORMATS",
+    "DEFAULT_FRAME_RATE",
+    "SUPPORTED_PIX_FMTS",
+    "RawVideoReader",
+    "VideoReader",
+    "VideoWriter",
+    "Y4mReader",
+    "YuvFormat",
+    "format_from_name",
+    "frame_from_luma",
+    "guess_format",
+    "open_video",
+    "open_writer",
+    "read_frame",
+    "write_video",
 ]
 
 logger = logging.getLogger(__name__)
@@ -50,16 +63,18 @@ BIT_DEPTHS = (8, 10, 12, 16)
 _PIX_FMT_BASE = {"420": "yuv420p", "422": "yuv422p", "444": "yuv444p", "400": "gray"}
 SUPPORTED_PIX_FMTS = tuple(
     base if bits == 8 else f"{base}{bits}le"
-    for base in _PIX_FMT_BASE.values() for bits in BIT_DEPTHS
+    for base in _PIX_FMT_BASE.values()
+    for bits in BIT_DEPTHS
 )
 _PIX_FMTS = {
     (base if bits == 8 else f"{base}{bits}le"): (chroma, bits)
-    for chroma, base in _PIX_FMT_BASE.items() for bits in BIT_DEPTHS
+    for chroma, base in _PIX_FMT_BASE.items()
+    for bits in BIT_DEPTHS
 }
 # Other spellings met in file names: yuv400p is the MPEG name of grey.
-_PIX_FMTS.update({
-    ("yuv400p" if bits == 8 else f"yuv400p{bits}le"): ("400", bits) for bits in BIT_DEPTHS
-})
+_PIX_FMTS.update(
+    {("yuv400p" if bits == 8 else f"yuv400p{bits}le"): ("400", bits) for bits in BIT_DEPTHS}
+)
 _PIX_FMTS["gray8"] = ("400", 8)
 _PIX_FMTS["y8"] = ("400", 8)
 
@@ -89,14 +104,18 @@ class YuvFormat:
             if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
                 raise UsageError(f"{name} must be a positive integer, got {value!r}")
         if self.chroma not in CHROMA_FORMATS:
-            raise UsageError(f"chroma format {self.chroma!r} is not one of {', '.join(CHROMA_FORMATS)}")
+            raise UsageError(
+                f"chroma format {self.chroma!r} is not one of {', '.join(CHROMA_FORMATS)}"
+            )
         if self.bits not in BIT_DEPTHS:
-            raise UsageError(f"bit depth {self.bits!r} is not one of {', '.join(map(str, BIT_DEPTHS))}")
+            raise UsageError(
+                f"bit depth {self.bits!r} is not one of {', '.join(map(str, BIT_DEPTHS))}"
+            )
         object.__setattr__(self, "width", int(self.width))
         object.__setattr__(self, "height", int(self.height))
 
     @classmethod
-    def from_pix_fmt(cls, width: int, height: int, pix_fmt: str) -> "YuvFormat":
+    def from_pix_fmt(cls, width: int, height: int, pix_fmt: str) -> YuvFormat:
         """Build a format from an ffmpeg pixel format name such as ``"yuv420p10le"``.
 
         Raises
@@ -107,7 +126,7 @@ class YuvFormat:
         chroma, bits = _parse_pix_fmt(pix_fmt)
         return cls(width, height, chroma, bits)
 
-    def with_(self, **changes) -> "YuvFormat":
+    def with_(self, **changes) -> YuvFormat:
         """Copy with some fields changed (``fmt.with_(bits=16)``)."""
         return dataclasses.replace(self, **changes)
 
@@ -131,8 +150,11 @@ class YuvFormat:
             return None
         half_w = -(-self.width // 2)
         half_h = -(-self.height // 2)
-        return {"420": (half_h, half_w), "422": (self.height, half_w),
-                "444": (self.height, self.width)}[self.chroma]
+        return {
+            "420": (half_h, half_w),
+            "422": (self.height, half_w),
+            "444": (self.height, self.width),
+        }[self.chroma]
 
     @property
     def plane_shapes(self) -> tuple[tuple[int, int], ...]:
@@ -155,7 +177,7 @@ class YuvFormat:
 
     @property
     def max_value(self) -> int:
-        return 2 ** self.bits - 1
+        return 2**self.bits - 1
 
     @property
     def size(self) -> tuple[int, int]:
@@ -173,8 +195,10 @@ def _parse_pix_fmt(pix_fmt: str) -> tuple[str, int]:
     hint = ""
     if key.endswith("be"):
         hint = " (big-endian samples are not supported; convert to the 'le' form)"
-    raise UsageError(f"unknown pixel format {pix_fmt!r}{hint}; supported: "
-                     f"{', '.join(SUPPORTED_PIX_FMTS)} (yuv400p* is accepted for gray*)")
+    raise UsageError(
+        f"unknown pixel format {pix_fmt!r}{hint}; supported: "
+        f"{', '.join(SUPPORTED_PIX_FMTS)} (yuv400p* is accepted for gray*)"
+    )
 
 
 def frame_from_luma(fmt: YuvFormat, luma: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -193,8 +217,9 @@ def frame_from_luma(fmt: YuvFormat, luma: np.ndarray) -> tuple[np.ndarray, ...]:
 # --------------------------------------------------------------------------- names
 
 _SIZE_TOKEN = re.compile(r"^(\d+)x(\d+)$", re.IGNORECASE)
-_OTHER_PIX_FMT = re.compile(r"^(yuv\d{3}p\w*|yuvj\d{3}p|gray\w+|nv12|nv21|p010le|rgb24|bgr24)$",
-                            re.IGNORECASE)
+_OTHER_PIX_FMT = re.compile(
+    r"^(yuv\d{3}p\w*|yuvj\d{3}p|gray\w+|nv12|nv21|p010le|rgb24|bgr24)$", re.IGNORECASE
+)
 
 
 def _parse_name(path: str | os.PathLike) -> tuple[tuple[int, int] | None, str | None]:
@@ -255,9 +280,22 @@ def _fitting_formats(file_bytes: int, width: int, height: int) -> list[tuple[str
     return fits
 
 
-_COMMON_SIZES = ((1024, 768), (1920, 1080), (1920, 1088), (2048, 1088), (1280, 720),
-                 (1280, 960), (640, 480), (720, 576), (352, 288), (3840, 2160), (4096, 2048),
-                 (2048, 2048), (4096, 2160), (1280, 768))
+_COMMON_SIZES = (
+    (1024, 768),
+    (1920, 1080),
+    (1920, 1088),
+    (2048, 1088),
+    (1280, 720),
+    (1280, 960),
+    (640, 480),
+    (720, 576),
+    (352, 288),
+    (3840, 2160),
+    (4096, 2048),
+    (2048, 2048),
+    (4096, 2160),
+    (1280, 768),
+)
 
 
 def _describe(fits: Iterable[tuple[str, YuvFormat, int]], *, with_size: bool = False) -> str:
@@ -270,13 +308,14 @@ def _describe(fits: Iterable[tuple[str, YuvFormat, int]], *, with_size: bool = F
 
 def _size_mismatch_message(file_bytes: int, fmt: YuvFormat) -> str:
     """One line: what does not fit, and which formats or sizes would."""
-    message = (f"{file_bytes} bytes is not a whole number of {fmt} frames "
-               f"of {fmt.frame_bytes} bytes")
+    message = f"{file_bytes} bytes is not a whole number of {fmt} frames of {fmt.frame_bytes} bytes"
     fits = _fitting_formats(file_bytes, fmt.width, fmt.height)
     if fits:
         return f"{message}; {_describe(fits)}: give the right --pix-fmt"
     other = [
-        fit for size in _COMMON_SIZES if size != fmt.size
+        fit
+        for size in _COMMON_SIZES
+        if size != fmt.size
         for fit in _fitting_formats(file_bytes, *size)
         if fit[1].bits == fmt.bits and fit[1].chroma == fmt.chroma
     ]
@@ -325,7 +364,9 @@ def guess_format(path: str | os.PathLike, width: int, height: int) -> YuvFormat:
         raise UsageError(
             f"cannot tell the pixel format of this {file_bytes}-byte file from the size "
             f"{width}x{height} alone: {_describe([fits[0], *rivals])}; give --pix-fmt "
-            f"(or name the file like name_{width}x{height}_{chosen.pix_fmt}.yuv)", path=path)
+            f"(or name the file like name_{width}x{height}_{chosen.pix_fmt}.yuv)",
+            path=path,
+        )
     return chosen
 
 
@@ -344,6 +385,7 @@ def _file_size(path: Path) -> int:
 
 
 # --------------------------------------------------------------------------- readers
+
 
 class VideoReader:
     """Frames of a planar video file, memory-mapped one at a time.
@@ -369,7 +411,7 @@ class VideoReader:
     def __len__(self) -> int:
         return self.num_frames
 
-    def __enter__(self) -> "VideoReader":
+    def __enter__(self) -> VideoReader:
         return self
 
     def __exit__(self, *exc_info) -> None:
@@ -385,16 +427,21 @@ class VideoReader:
         return self._file is None
 
     def __repr__(self) -> str:
-        return (f"<{type(self).__name__} {str(self.path)!r} {self.format} "
-                f"{self.num_frames} frames{' closed' if self.closed else ''}>")
+        return (
+            f"<{type(self).__name__} {str(self.path)!r} {self.format} "
+            f"{self.num_frames} frames{' closed' if self.closed else ''}>"
+        )
 
     def _check_index(self, index: int) -> int:
         if isinstance(index, bool) or not isinstance(index, (int, np.integer)):
             raise TypeError(f"frame index must be an integer, got {index!r}")
         if not 0 <= index < self.num_frames:
             valid = f" (0..{self.num_frames - 1})" if self.num_frames else ""
-            raise UsageError(f"frame {index} does not exist: the video has {self.num_frames} "
-                             f"frame{'s' if self.num_frames != 1 else ''}{valid}", path=self.path)
+            raise UsageError(
+                f"frame {index} does not exist: the video has {self.num_frames} "
+                f"frame{'s' if self.num_frames != 1 else ''}{valid}",
+                path=self.path,
+            )
         return int(index)
 
     def read(self, index: int) -> tuple[np.ndarray, ...]:
@@ -409,14 +456,19 @@ class VideoReader:
         if self._file is None:
             raise ValueError(f"{self.path}: the reader is closed")
         fmt = self.format
-        mapped = np.memmap(self._file, dtype=np.uint8, mode="r",
-                           offset=self._frame_offset(index), shape=(fmt.frame_bytes,))
+        mapped = np.memmap(
+            self._file,
+            dtype=np.uint8,
+            mode="r",
+            offset=self._frame_offset(index),
+            shape=(fmt.frame_bytes,),
+        )
         samples = mapped.view(np.ndarray)
         if fmt.bits != 8:
             samples = samples.view(fmt.dtype)
         planes, start = [], 0
         for rows, cols in fmt.plane_shapes:
-            planes.append(samples[start:start + rows * cols].reshape(rows, cols))
+            planes.append(samples[start : start + rows * cols].reshape(rows, cols))
             start += rows * cols
         return tuple(planes)
 
@@ -426,8 +478,10 @@ class VideoReader:
             self._check_index(start)
         stop = self.num_frames if count is None else start + count
         if count is not None and (count < 0 or stop > self.num_frames):
-            raise UsageError(f"{count} frames from frame {start} asked, the video has "
-                             f"{self.num_frames} frames", path=self.path)
+            raise UsageError(
+                f"{count} frames from frame {start} asked, the video has {self.num_frames} frames",
+                path=self.path,
+            )
         for index in range(start, stop):
             yield self.read(index)
 
@@ -444,7 +498,9 @@ class RawVideoReader(VideoReader):
         if file_bytes % fmt.frame_bytes:
             raise DataError(_size_mismatch_message(file_bytes, fmt), path=path)
         note_input(path)
-        super().__init__(path, fmt, open(path, "rb"), file_bytes // fmt.frame_bytes)
+        # the reader owns the handle: its close() (or the with block) closes it
+        handle = open(path, "rb")  # noqa: SIM115
+        super().__init__(path, fmt, handle, file_bytes // fmt.frame_bytes)
 
     def _frame_offset(self, index: int) -> int:
         return index * self.format.frame_bytes
@@ -456,8 +512,15 @@ Y4M_MAGIC = b"YUV4MPEG2"
 _MAX_HEADER = 1 << 16
 
 # ffmpeg's C tags (libavformat/yuv4mpegenc.c) and the format each stands for.
-_Y4M_8BIT = {"420jpeg": "420", "420paldv": "420", "420mpeg2": "420", "420": "420",
-             "422": "422", "444": "444", "mono": "400"}
+_Y4M_8BIT = {
+    "420jpeg": "420",
+    "420paldv": "420",
+    "420mpeg2": "420",
+    "420": "420",
+    "422": "422",
+    "444": "444",
+    "mono": "400",
+}
 _Y4M_DEEP = re.compile(r"^(?:(420|422|444)p|mono)(\d+)$")
 
 
@@ -465,7 +528,11 @@ def _y4m_colorspace(fmt: YuvFormat) -> str:
     """The C tag ffmpeg writes, with its XYSCSS extension tag."""
     if fmt.chroma == "400":
         return "Cmono" if fmt.bits == 8 else f"Cmono{fmt.bits}"
-    name = {"420": "420jpeg"}.get(fmt.chroma, fmt.chroma) if fmt.bits == 8 else f"{fmt.chroma}p{fmt.bits}"
+    name = (
+        {"420": "420jpeg"}.get(fmt.chroma, fmt.chroma)
+        if fmt.bits == 8
+        else f"{fmt.chroma}p{fmt.bits}"
+    )
     return f"C{name} XYSCSS={name.upper()}"
 
 
@@ -475,9 +542,12 @@ def _y4m_format(tag: str, width: int, height: int, path: Path) -> YuvFormat:
     else:
         match = _Y4M_DEEP.match(tag)
         if not (match and int(match.group(2)) in BIT_DEPTHS):
-            raise DataError(f"YUV4MPEG2 colour space C{tag} is not supported (supported: "
-                            f"420jpeg, 420paldv, 420mpeg2, 420, 422, 444, mono and their "
-                            f"p10/p12/p16, mono10/12/16)", path=path)
+            raise DataError(
+                f"YUV4MPEG2 colour space C{tag} is not supported (supported: "
+                f"420jpeg, 420paldv, 420mpeg2, 420, 422, 444, mono and their "
+                f"p10/p12/p16, mono10/12/16)",
+                path=path,
+            )
         chroma, bits = match.group(1) or "400", int(match.group(2))
     try:
         return YuvFormat(width, height, chroma, bits)
@@ -497,7 +567,7 @@ class Y4mReader(VideoReader):
         path = Path(path)
         file_bytes = _file_size(path)
         note_input(path)
-        handle = open(path, "rb")
+        handle = open(path, "rb")  # noqa: SIM115 (the reader owns it, as above)
         try:
             fmt, params, self._data_start = self._parse_header(handle, path)
             self.frame_rate = _ratio(params.get("F"), path, "F")
@@ -519,7 +589,7 @@ class Y4mReader(VideoReader):
         if not head.startswith(Y4M_MAGIC + b" ") or end < 0:
             raise DataError("not a YUV4MPEG2 file (no 'YUV4MPEG2 ...' header line)", path=path)
         params: dict[str, str] = {}
-        for token in head[len(Y4M_MAGIC):end].decode("ascii", "replace").split():
+        for token in head[len(Y4M_MAGIC) : end].decode("ascii", "replace").split():
             if token[0] != "X":  # X tags are extensions; ffmpeg's XYSCSS repeats C
                 params[token[0]] = token[1:]
         try:
@@ -541,14 +611,18 @@ class Y4mReader(VideoReader):
         payload = file_bytes - self._data_start
         if payload == 0:
             # as an empty raw file is: no program has anything to do with it
-            raise DataError("the video holds no frame (a YUV4MPEG2 header and nothing more)",
-                            path=self.path)
+            raise DataError(
+                "the video holds no frame (a YUV4MPEG2 header and nothing more)", path=self.path
+            )
         frame_line = self._frame_line_at(handle, self._data_start)
         if frame_line == 0:
             raise DataError(f"no FRAME line at byte {self._data_start}", path=self.path)
         stride = frame_line + self.format.frame_bytes
         count, remainder = divmod(payload, stride)
-        if remainder == 0 and self._frame_line_at(handle, self._data_start + (count - 1) * stride) == frame_line:
+        if (
+            remainder == 0
+            and self._frame_line_at(handle, self._data_start + (count - 1) * stride) == frame_line
+        ):
             self._frame_line = frame_line
             return count
         return len(self._index(handle, file_bytes))
@@ -559,11 +633,15 @@ class Y4mReader(VideoReader):
         while position < file_bytes:
             frame_line = self._frame_line_at(handle, position)
             if frame_line == 0:
-                raise DataError(f"frame {len(offsets)}: no FRAME line at byte {position}", path=self.path)
+                raise DataError(
+                    f"frame {len(offsets)}: no FRAME line at byte {position}", path=self.path
+                )
             if position + frame_line + fmt.frame_bytes > file_bytes:
                 raise DataError(
                     f"frame {len(offsets)} is truncated: {file_bytes - position - frame_line} of "
-                    f"{fmt.frame_bytes} bytes of a {fmt} frame present", path=self.path)
+                    f"{fmt.frame_bytes} bytes of a {fmt} frame present",
+                    path=self.path,
+                )
             offsets.append(position + frame_line)
             position += frame_line + fmt.frame_bytes
         self._offsets = np.asarray(offsets, dtype=np.int64)
@@ -587,7 +665,9 @@ def _ratio(value: str | None, path: Path, tag: str) -> Fraction | None:
         num, den = (int(part) for part in value.split(":"))
         return Fraction(num, den) if den else None
     except ValueError:
-        raise DataError(f"YUV4MPEG2 header tag {tag}{value} is not 'number:number'", path=path) from None
+        raise DataError(
+            f"YUV4MPEG2 header tag {tag}{value} is not 'number:number'", path=path
+        ) from None
 
 
 def _is_y4m(path: Path) -> bool:
@@ -635,19 +715,27 @@ def open_video(path: str | os.PathLike, fmt: YuvFormat | None = None) -> VideoRe
     named = format_from_name(path)
     if fmt is None:
         if named is None:
-            raise UsageError("picture size and pixel format unknown: give them (e.g. --size "
-                             "1024x768 --pix-fmt yuv420p) or name the file like "
-                             "name_1024x768_yuv420p.yuv", path=path)
+            raise UsageError(
+                "picture size and pixel format unknown: give them (e.g. --size "
+                "1024x768 --pix-fmt yuv420p) or name the file like "
+                "name_1024x768_yuv420p.yuv",
+                path=path,
+            )
         fmt = named
     elif named is not None and _parse_name(path)[1] is not None and named != fmt:
         logger.warning("%s: the name says %s, reading it as %s as asked", path, named, fmt)
     return RawVideoReader(path, fmt)
 
 
-def read_frame(path: str | os.PathLike, fmt: YuvFormat | None = None, index: int = 0) -> tuple[np.ndarray, ...]:
+def read_frame(
+    path: str | os.PathLike, fmt: YuvFormat | None = None, index: int = 0
+) -> tuple[np.ndarray, ...]:
     """One frame of a video file as writable in-memory arrays (see :func:`open_video`)."""
     with open_video(path, fmt) as reader:
-        return tuple(np.array(plane, dtype=reader.format.dtype.newbyteorder("=")) for plane in reader.read(index))
+        return tuple(
+            np.array(plane, dtype=reader.format.dtype.newbyteorder("="))
+            for plane in reader.read(index)
+        )
 
 
 # --------------------------------------------------------------------------- writers
@@ -664,8 +752,15 @@ class VideoWriter:
     nothing is left behind.
     """
 
-    def __init__(self, path: str | os.PathLike, fmt: YuvFormat, *, y4m: bool,
-                 frame_rate: Fraction | int | str | None = None, what: str = "output"):
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        fmt: YuvFormat,
+        *,
+        y4m: bool,
+        frame_rate: Fraction | int | str | None = None,
+        what: str = "output",
+    ):
         self.path = Path(path)
         self.format = fmt
         self.num_frames = 0
@@ -674,8 +769,10 @@ class VideoWriter:
         self._file = self._stack.enter_context(atomic_output(self.path, "wb", what=what))
         if y4m:
             rate = Fraction(DEFAULT_FRAME_RATE if frame_rate is None else frame_rate)
-            self._file.write(f"YUV4MPEG2 W{fmt.width} H{fmt.height} F{rate.numerator}:{rate.denominator} "
-                             f"Ip A1:1 {_y4m_colorspace(fmt)}\n".encode("ascii"))
+            self._file.write(
+                f"YUV4MPEG2 W{fmt.width} H{fmt.height} F{rate.numerator}:{rate.denominator} "
+                f"Ip A1:1 {_y4m_colorspace(fmt)}\n".encode("ascii")
+            )
 
     def write(self, planes: Sequence[np.ndarray] | np.ndarray) -> None:
         """Append one frame.
@@ -697,19 +794,27 @@ class VideoWriter:
         if isinstance(planes, np.ndarray) and planes.ndim == 2:
             planes = (planes,)
         if len(planes) != fmt.num_planes:
-            raise ValueError(f"{fmt.pix_fmt} frame needs {fmt.num_planes} planes, got {len(planes)}")
+            raise ValueError(
+                f"{fmt.pix_fmt} frame needs {fmt.num_planes} planes, got {len(planes)}"
+            )
         chunks = []
         for name, plane, shape in zip("YUV", planes, fmt.plane_shapes):
             plane = np.asarray(plane)
             if plane.shape != shape:
-                raise ValueError(f"plane {name} of a {fmt} frame must have shape {shape}, got {plane.shape}")
+                raise ValueError(
+                    f"plane {name} of a {fmt} frame must have shape {shape}, got {plane.shape}"
+                )
             expected = np.uint8 if fmt.bits == 8 else np.uint16
             if plane.dtype.kind != "u" or plane.dtype.itemsize != np.dtype(expected).itemsize:
-                raise ValueError(f"plane {name} of a {fmt.bits}-bit frame must be {np.dtype(expected)}, "
-                                 f"got {plane.dtype}")
+                raise ValueError(
+                    f"plane {name} of a {fmt.bits}-bit frame must be {np.dtype(expected)}, "
+                    f"got {plane.dtype}"
+                )
             if fmt.bits not in (8, 16) and plane.size and int(plane.max()) > fmt.max_value:
-                raise ValueError(f"plane {name} has value {int(plane.max())} above the {fmt.bits}-bit "
-                                 f"maximum {fmt.max_value}")
+                raise ValueError(
+                    f"plane {name} has value {int(plane.max())} above the {fmt.bits}-bit "
+                    f"maximum {fmt.max_value}"
+                )
             chunks.append(np.ascontiguousarray(plane, dtype=fmt.dtype).tobytes())
         if self.y4m:
             self._file.write(b"FRAME\n")
@@ -729,7 +834,7 @@ class VideoWriter:
             with contextlib.suppress(_Aborted):
                 self._stack.__exit__(_Aborted, _Aborted(), None)
 
-    def __enter__(self) -> "VideoWriter":
+    def __enter__(self) -> VideoWriter:
         return self
 
     def __exit__(self, exc_type, exc, tb) -> None:
@@ -746,9 +851,13 @@ class _Aborted(Exception):
     """Sent into the atomic output to make it discard the temporary file."""
 
 
-def open_writer(path: str | os.PathLike, fmt: YuvFormat, *,
-                frame_rate: Fraction | int | str | None = None, what: str = "output"
-                ) -> VideoWriter:
+def open_writer(
+    path: str | os.PathLike,
+    fmt: YuvFormat,
+    *,
+    frame_rate: Fraction | int | str | None = None,
+    what: str = "output",
+) -> VideoWriter:
     """Open a raw YUV (any extension but ``.y4m``) or Y4M file for writing.
 
     ``frame_rate`` (Y4M only) is a number or ``"30000/1001"``; None (a source that
@@ -756,12 +865,18 @@ def open_writer(path: str | os.PathLike, fmt: YuvFormat, *,
     ffmpeg's: ``C420jpeg`` for 8-bit 4:2:0, ``C444``, ``Cmono``, ``C420p10``,
     ``Cmono16`` ... ``what`` names the output in messages (``"packed video (-o)"``).
     """
-    return VideoWriter(path, fmt, y4m=Path(path).suffix.lower() == ".y4m", frame_rate=frame_rate,
-                       what=what)
+    return VideoWriter(
+        path, fmt, y4m=Path(path).suffix.lower() == ".y4m", frame_rate=frame_rate, what=what
+    )
 
 
-def write_video(path: str | os.PathLike, fmt: YuvFormat, frames: Iterable[Sequence[np.ndarray]], *,
-                frame_rate: Fraction | int | str | None = None) -> int:
+def write_video(
+    path: str | os.PathLike,
+    fmt: YuvFormat,
+    frames: Iterable[Sequence[np.ndarray]],
+    *,
+    frame_rate: Fraction | int | str | None = None,
+) -> int:
     """Write all ``frames`` (each a tuple of planes) to ``path``; returns the count."""
     with open_writer(path, fmt, frame_rate=frame_rate) as writer:
         for planes in frames:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
-__all__ = ["bd_rate", "bd_psnr", "BD_METHODS"]
+__all__ = ["BD_METHODS", "bd_psnr", "bd_rate"]
 
 
 def _polynomial_integral(x: np.ndarray, y: np.ndarray, low: float, high: float) -> float:
@@ -38,8 +38,10 @@ def _curves(rate_a, psnr_a, rate_b, psnr_b, method):
         rate = np.asarray(rate, dtype=np.float64)
         quality = np.asarray(quality, dtype=np.float64)
         if rate.ndim != 1 or rate.shape != quality.shape or rate.size < 4:
-            raise ValueError(f"the {label} curve needs at least 4 (rate, PSNR) points of equal "
-                             f"count, got {rate.shape} and {quality.shape}")
+            raise ValueError(
+                f"the {label} curve needs at least 4 (rate, PSNR) points of equal "
+                f"count, got {rate.shape} and {quality.shape}"
+            )
         if np.any(rate <= 0) or not np.all(np.isfinite(quality)):
             raise ValueError(f"the {label} curve needs positive rates and finite PSNRs")
         if len(np.unique(quality)) != quality.size or len(np.unique(rate)) != rate.size:
@@ -70,15 +72,17 @@ def bd_rate(rate_anchor, psnr_anchor, rate_test, psnr_test, *, method: str = "cu
     -------
     float
     """
-    (log_a, quality_a), (log_b, quality_b) = _curves(rate_anchor, psnr_anchor, rate_test,
-                                                     psnr_test, method)
+    (log_a, quality_a), (log_b, quality_b) = _curves(
+        rate_anchor, psnr_anchor, rate_test, psnr_test, method
+    )
     mean_log_difference = _mean_difference(quality_a, log_a, quality_b, log_b, method)
-    return float((10.0 ** mean_log_difference - 1.0) * 100.0)
+    return float((10.0**mean_log_difference - 1.0) * 100.0)
 
 
 def bd_psnr(rate_anchor, psnr_anchor, rate_test, psnr_test, *, method: str = "cubic") -> float:
     """Mean PSNR difference of the test against the anchor at equal rate, in dB
     (positive: the test is better). Parameters as :func:`bd_rate`."""
-    (log_a, quality_a), (log_b, quality_b) = _curves(rate_anchor, psnr_anchor, rate_test,
-                                                     psnr_test, method)
+    (log_a, quality_a), (log_b, quality_b) = _curves(
+        rate_anchor, psnr_anchor, rate_test, psnr_test, method
+    )
     return float(_mean_difference(log_a, quality_a, log_b, quality_b, method))

@@ -74,15 +74,21 @@ def check_thresholds(thresholds: Sequence[float]) -> tuple[float, ...]:
     thresholds = tuple(float(t) for t in thresholds)
     # written so that NaN fails: no comparison with it is true
     if not thresholds or not all(t >= 0 for t in thresholds):
-        raise ValueError(f"thresholds must be a non-empty list of values >= 0, got "
-                         f"{', '.join(f'{t:g}' for t in thresholds) or 'none'}")
+        raise ValueError(
+            f"thresholds must be a non-empty list of values >= 0, got "
+            f"{', '.join(f'{t:g}' for t in thresholds) or 'none'}"
+        )
     return thresholds
 
 
-def score_disparity(disparity: np.ndarray, ground_truth: np.ndarray, *,
-                    known: np.ndarray | None = None,
-                    nonoccluded: np.ndarray | None = None,
-                    thresholds: Sequence[float] = (1.0, 2.0)) -> DisparityScore:
+def score_disparity(
+    disparity: np.ndarray,
+    ground_truth: np.ndarray,
+    *,
+    known: np.ndarray | None = None,
+    nonoccluded: np.ndarray | None = None,
+    thresholds: Sequence[float] = (1.0, 2.0),
+) -> DisparityScore:
     """Percentages of bad pixels of a disparity map, over all and non-occluded pixels.
 
     A pixel is bad at threshold ``t`` when ``|disparity - ground_truth| > t``
@@ -115,11 +121,16 @@ def score_disparity(disparity: np.ndarray, ground_truth: np.ndarray, *,
     if disparity.ndim != 2:
         raise ValueError(f"disparity must be 2-D, got shape {disparity.shape}")
     if disparity.shape != ground_truth.shape:
-        raise ValueError(f"disparity shape {disparity.shape} differs from ground-truth "
-                         f"shape {ground_truth.shape}")
+        raise ValueError(
+            f"disparity shape {disparity.shape} differs from ground-truth "
+            f"shape {ground_truth.shape}"
+        )
     thresholds = check_thresholds(thresholds)
-    known = _mask(known, disparity.shape, "known") if known is not None \
+    known = (
+        _mask(known, disparity.shape, "known")
+        if known is not None
         else known_ground_truth(ground_truth)
+    )
     known = known & np.isfinite(ground_truth)
     if not known.any():
         raise ValueError("no pixel has known ground truth")
@@ -132,8 +143,10 @@ def score_disparity(disparity: np.ndarray, ground_truth: np.ndarray, *,
 
     def bad_percentages(region: np.ndarray) -> dict[float, float]:
         region_error = error[region]
-        return {t: float(100.0 * np.count_nonzero(region_error > t) / region_error.size)
-                for t in thresholds}
+        return {
+            t: float(100.0 * np.count_nonzero(region_error > t) / region_error.size)
+            for t in thresholds
+        }
 
     bad_nonocc = None
     nonocc_pixels = None
@@ -149,7 +162,8 @@ def score_disparity(disparity: np.ndarray, ground_truth: np.ndarray, *,
         bad_all=bad_percentages(known),
         bad_nonocc=bad_nonocc,
         mean_abs_error=float(valid_error.mean()) if valid_error.size else float("nan"),
-        rms_error=float(np.sqrt(np.mean(np.square(valid_error)))) if valid_error.size
+        rms_error=float(np.sqrt(np.mean(np.square(valid_error))))
+        if valid_error.size
         else float("nan"),
         known_pixels=int(np.count_nonzero(known)),
         nonocc_pixels=nonocc_pixels,
@@ -162,9 +176,13 @@ def score_disparity(disparity: np.ndarray, ground_truth: np.ndarray, *,
 ERROR_BIN_EDGES = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0, 8.0, np.inf)
 
 
-def error_histogram(disparity: np.ndarray, ground_truth: np.ndarray, *,
-                    known: np.ndarray | None = None,
-                    edges: Sequence[float] = ERROR_BIN_EDGES) -> np.ndarray:
+def error_histogram(
+    disparity: np.ndarray,
+    ground_truth: np.ndarray,
+    *,
+    known: np.ndarray | None = None,
+    edges: Sequence[float] = ERROR_BIN_EDGES,
+) -> np.ndarray:
     """How many known pixels have an absolute disparity error in each bin.
 
     Bin ``i`` holds the errors ``edges[i] <= error < edges[i + 1]``; an estimate that
@@ -187,13 +205,17 @@ def error_histogram(disparity: np.ndarray, ground_truth: np.ndarray, *,
     disparity = np.asarray(disparity, dtype=np.float64)
     ground_truth = np.asarray(ground_truth, dtype=np.float64)
     if disparity.ndim != 2 or disparity.shape != ground_truth.shape:
-        raise ValueError(f"need two 2-D maps of one shape, got {disparity.shape} and "
-                         f"{ground_truth.shape}")
+        raise ValueError(
+            f"need two 2-D maps of one shape, got {disparity.shape} and {ground_truth.shape}"
+        )
     edges = np.asarray(edges, dtype=np.float64)
     if edges.size < 2 or edges[0] != 0 or np.any(np.diff(edges) <= 0):
         raise ValueError(f"edges must increase from 0 with at least two values, got {edges}")
-    known = _mask(known, disparity.shape, "known") if known is not None \
+    known = (
+        _mask(known, disparity.shape, "known")
+        if known is not None
         else known_ground_truth(ground_truth)
+    )
     with np.errstate(invalid="ignore"):
         error = np.abs(disparity - ground_truth)[known & np.isfinite(ground_truth)]
     error = np.where(np.isfinite(error), error, np.inf)
@@ -202,8 +224,9 @@ def error_histogram(disparity: np.ndarray, ground_truth: np.ndarray, *,
     return np.bincount(bins, minlength=edges.size - 1).astype(np.int64)
 
 
-def nonoccluded_from_other_view(gt_left: np.ndarray, gt_right: np.ndarray, *,
-                                tolerance: float = 1.0) -> np.ndarray:
+def nonoccluded_from_other_view(
+    gt_left: np.ndarray, gt_right: np.ndarray, *, tolerance: float = 1.0
+) -> np.ndarray:
     """Non-occluded pixels of the left view, by checking the right view's ground truth.
 
     The rule stated for the Middlebury 2005 sets: a left pixel ``(x, y)`` with
@@ -228,8 +251,10 @@ def nonoccluded_from_other_view(gt_left: np.ndarray, gt_right: np.ndarray, *,
     gt_left = np.asarray(gt_left, dtype=np.float64)
     gt_right = np.asarray(gt_right, dtype=np.float64)
     if gt_left.ndim != 2 or gt_left.shape != gt_right.shape:
-        raise ValueError(f"left and right ground truths must be 2-D of equal shape, got "
-                         f"{gt_left.shape} and {gt_right.shape}")
+        raise ValueError(
+            f"left and right ground truths must be 2-D of equal shape, got "
+            f"{gt_left.shape} and {gt_right.shape}"
+        )
     height, width = gt_left.shape
     known_left = known_ground_truth(gt_left)
     x_right = np.floor(np.arange(width) - np.where(known_left, gt_left, 0.0) + 0.5).astype(np.int64)

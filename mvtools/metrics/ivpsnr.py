@@ -14,21 +14,21 @@ operations.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
 from mvtools.metrics.psnr import subsampling_factors
 
-SEARCH_RANGE = 2                 # +-2 pixels: a 5x5 window
-COMPONENT_WEIGHTS = (4, 1, 1)    # Y:U:V, for both the search and the final average
-UNNOTICEABLE_FRACTION = 0.01     # color shift limit, fraction of the sample range
+SEARCH_RANGE = 2  # +-2 pixels: a 5x5 window
+COMPONENT_WEIGHTS = (4, 1, 1)  # Y:U:V, for both the search and the final average
+UNNOTICEABLE_FRACTION = 0.01  # color shift limit, fraction of the sample range
 
 
-def iv_psnr(ref_planes: Sequence[np.ndarray], test_planes: Sequence[np.ndarray], *,
-            bits: int) -> float:
+def iv_psnr(
+    ref_planes: Sequence[np.ndarray], test_planes: Sequence[np.ndarray], *, bits: int
+) -> float:
     """IV-PSNR of one frame, in dB, as computed by the MPEG reference software.
 
     Steps (reference software IVPSNR v7.0, default settings):
@@ -79,16 +79,19 @@ def iv_psnr(ref_planes: Sequence[np.ndarray], test_planes: Sequence[np.ndarray],
         IV-PSNR in dB.
     """
     if len(ref_planes) != 3 or len(test_planes) != 3:
-        raise ValueError(f"IV-PSNR needs (Y, U, V) frames, got {len(ref_planes)} and "
-                         f"{len(test_planes)} planes")
+        raise ValueError(
+            f"IV-PSNR needs (Y, U, V) frames, got {len(ref_planes)} and {len(test_planes)} planes"
+        )
     if not 1 <= bits <= 16:
         raise ValueError(f"bits must be in 1..16, got {bits}")
-    max_value = 2 ** bits - 1
+    max_value = 2**bits - 1
     ref = _to_444(ref_planes, max_value, "reference")
     test = _to_444(test_planes, max_value, "test")
     if ref.shape != test.shape:
-        raise ValueError(f"reference frame {ref.shape[2]}x{ref.shape[1]} differs from test "
-                         f"frame {test.shape[2]}x{test.shape[1]}")
+        raise ValueError(
+            f"reference frame {ref.shape[2]}x{ref.shape[1]} differs from test "
+            f"frame {test.shape[2]}x{test.shape[1]}"
+        )
 
     if np.array_equal(ref, test):
         # Identical frames have no error at all; the reference's floor of SSD 1 (step 3)
@@ -118,9 +121,10 @@ def global_color_shift(ref: np.ndarray, test: np.ndarray, *, bits: int) -> np.nd
     -------
     ndarray of int64, shape (C,)
     """
-    limit = int(np.rint(np.float32(UNNOTICEABLE_FRACTION) * np.float32(2 ** bits - 1)))
+    limit = int(np.rint(np.float32(UNNOTICEABLE_FRACTION) * np.float32(2**bits - 1)))
     mean_diff = (test.astype(np.int64) - ref.astype(np.int64)).sum(axis=(1, 2)) / (
-        ref.shape[1] * ref.shape[2])
+        ref.shape[1] * ref.shape[2]
+    )
     return np.clip(np.rint(mean_diff), -limit, limit).astype(np.int64)
 
 
@@ -131,18 +135,20 @@ def _to_444(planes: Sequence[np.ndarray], max_value: int, which: str) -> np.ndar
         raise ValueError(f"{which} luma plane must be 2-D, got shape {luma_shape}")
     # The weighted error 6 * (max_value + CSE)^2 fits int32 up to 14 bits (as in the
     # reference); wider samples need int64.
-    dtype = np.int32 if max_value < 2 ** 14 else np.int64
+    dtype = np.int32 if max_value < 2**14 else np.int64
     stacked = np.empty((3,) + luma_shape, dtype=dtype)
     for index, plane in enumerate(planes):
         plane = np.asarray(plane)
         if not np.issubdtype(plane.dtype, np.integer):
-            raise ValueError(f"{which} plane {index} has dtype {plane.dtype}; IV-PSNR works "
-                             "on integer samples")
+            raise ValueError(
+                f"{which} plane {index} has dtype {plane.dtype}; IV-PSNR works on integer samples"
+            )
         if plane.size and (plane.min() < 0 or plane.max() > max_value):
             raise ValueError(f"{which} plane {index} has samples outside 0..{max_value}")
         fy, fx = subsampling_factors(luma_shape, plane.shape)
         stacked[index] = np.repeat(np.repeat(plane, fy, axis=0), fx, axis=1)[
-            :luma_shape[0], :luma_shape[1]]
+            : luma_shape[0], : luma_shape[1]
+        ]
     return stacked
 
 
@@ -162,7 +168,7 @@ def _asymmetric_quality(source: np.ndarray, target: np.ndarray, max_value: int) 
     squares = np.empty_like(source)
     for dy in range(-r, r + 1):
         for dx in range(-r, r + 1):
-            candidate = padded[:, r + dy:r + dy + height, r + dx:r + dx + width]
+            candidate = padded[:, r + dy : r + dy + height, r + dx : r + dx + width]
             np.subtract(source, candidate, out=squares)
             np.square(squares, out=squares)
             error = w_y * squares[0] + w_u * squares[1] + w_v * squares[2]
@@ -170,6 +176,5 @@ def _asymmetric_quality(source: np.ndarray, target: np.ndarray, max_value: int) 
             np.copyto(best_error, error, where=better)
             np.copyto(best_squares, squares, where=better)
     ssd = best_squares.sum(axis=(1, 2), dtype=np.int64).astype(np.float64)
-    component_psnr = 10.0 * np.log10(float(max_value) ** 2 * height * width
-                                      / np.maximum(ssd, 1.0))
+    component_psnr = 10.0 * np.log10(float(max_value) ** 2 * height * width / np.maximum(ssd, 1.0))
     return float(np.dot(COMPONENT_WEIGHTS, component_psnr) / sum(COMPONENT_WEIGHTS))

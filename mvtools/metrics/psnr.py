@@ -17,8 +17,9 @@ import numpy as np
 YUV_PSNR_WEIGHTS = (6, 1, 1)
 
 
-def psnr(ref: np.ndarray, test: np.ndarray, *, max_value: float,
-         mask: np.ndarray | None = None) -> float:
+def psnr(
+    ref: np.ndarray, test: np.ndarray, *, max_value: float, mask: np.ndarray | None = None
+) -> float:
     """PSNR of one plane, in dB.
 
     ``PSNR = 10 log10(max_value**2 / MSE)`` with ``MSE`` the mean of the squared
@@ -47,8 +48,9 @@ def psnr(ref: np.ndarray, test: np.ndarray, *, max_value: float,
             raise ValueError(f"mask shape {mask.shape} differs from plane shape {ref.shape}")
         if not mask.any():
             raise ValueError("mask selects no sample: PSNR is undefined")
-    mse = _sum_squared_difference(ref, test, mask) / (ref.size if mask is None
-                                                      else np.count_nonzero(mask))
+    mse = _sum_squared_difference(ref, test, mask) / (
+        ref.size if mask is None else np.count_nonzero(mask)
+    )
     if mse == 0.0:
         return float("inf")
     return float(10.0 * np.log10(float(max_value) ** 2 / mse))
@@ -73,16 +75,20 @@ def _sum_squared_difference(ref: np.ndarray, test: np.ndarray, mask: np.ndarray 
     # differ by a few ulps, far below what a PSNR shows).
     if ref.dtype == test.dtype and ref.dtype in (np.uint8, np.uint16):
         cv_mask = None if mask is None else mask.view(np.uint8)
-        return float(cv2.norm(np.ascontiguousarray(ref), np.ascontiguousarray(test),
-                              cv2.NORM_L2SQR, mask=cv_mask))
+        return float(
+            cv2.norm(
+                np.ascontiguousarray(ref), np.ascontiguousarray(test), cv2.NORM_L2SQR, mask=cv_mask
+            )
+        )
     diff = ref.astype(np.float64) - test.astype(np.float64)
     if mask is not None:
         diff = diff[mask]
     return float(np.sum(np.square(diff)))
 
 
-def subsampling_factors(luma_shape: tuple[int, int],
-                        plane_shape: tuple[int, int]) -> tuple[int, int]:
+def subsampling_factors(
+    luma_shape: tuple[int, int], plane_shape: tuple[int, int]
+) -> tuple[int, int]:
     """Vertical and horizontal subsampling of a plane relative to luma.
 
     Each factor is 1 or 2, and the plane size must be ``ceil(luma / factor)``.
@@ -96,8 +102,10 @@ def subsampling_factors(luma_shape: tuple[int, int],
     for luma, size in zip(luma_shape, plane_shape):
         factor = next((f for f in (1, 2) if -(-luma // f) == size), None)
         if factor is None:
-            raise ValueError(f"plane shape {plane_shape} is not a 4:4:4, 4:2:2 or 4:2:0 "
-                             f"chroma plane of luma shape {luma_shape}")
+            raise ValueError(
+                f"plane shape {plane_shape} is not a 4:4:4, 4:2:2 or 4:2:0 "
+                f"chroma plane of luma shape {luma_shape}"
+            )
         factors.append(factor)
     return factors[0], factors[1]
 
@@ -117,8 +125,9 @@ def _mask_for_plane(mask: np.ndarray, plane_shape: tuple[int, int]) -> np.ndarra
     return padded.reshape(h, fy, w, fx).all(axis=(1, 3))
 
 
-def _check_frames(ref_planes: Sequence[np.ndarray], test_planes: Sequence[np.ndarray],
-                  bits: int) -> None:
+def _check_frames(
+    ref_planes: Sequence[np.ndarray], test_planes: Sequence[np.ndarray], bits: int
+) -> None:
     if len(ref_planes) != len(test_planes):
         raise ValueError(f"reference has {len(ref_planes)} planes, test has {len(test_planes)}")
     if len(ref_planes) not in (1, 3):
@@ -127,8 +136,13 @@ def _check_frames(ref_planes: Sequence[np.ndarray], test_planes: Sequence[np.nda
         raise ValueError(f"bits must be in 1..16, got {bits}")
 
 
-def plane_psnr(ref_planes: Sequence[np.ndarray], test_planes: Sequence[np.ndarray], *,
-               bits: int, mask: np.ndarray | None = None) -> tuple[float, ...]:
+def plane_psnr(
+    ref_planes: Sequence[np.ndarray],
+    test_planes: Sequence[np.ndarray],
+    *,
+    bits: int,
+    mask: np.ndarray | None = None,
+) -> tuple[float, ...]:
     """PSNR of each plane of a frame, peak ``2**bits - 1``.
 
     Parameters
@@ -147,20 +161,31 @@ def plane_psnr(ref_planes: Sequence[np.ndarray], test_planes: Sequence[np.ndarra
         One PSNR per plane, in dB (``inf`` for identical planes).
     """
     _check_frames(ref_planes, test_planes, bits)
-    max_value = 2 ** bits - 1
+    max_value = 2**bits - 1
     if mask is not None:
         mask = np.asarray(mask, dtype=bool)
         if mask.shape != np.shape(ref_planes[0]):
-            raise ValueError(f"mask shape {mask.shape} differs from luma shape "
-                             f"{np.shape(ref_planes[0])}")
+            raise ValueError(
+                f"mask shape {mask.shape} differs from luma shape {np.shape(ref_planes[0])}"
+            )
     return tuple(
-        psnr(ref, test, max_value=max_value,
-             mask=None if mask is None else _mask_for_plane(mask, np.shape(ref)))
-        for ref, test in zip(ref_planes, test_planes))
+        psnr(
+            ref,
+            test,
+            max_value=max_value,
+            mask=None if mask is None else _mask_for_plane(mask, np.shape(ref)),
+        )
+        for ref, test in zip(ref_planes, test_planes)
+    )
 
 
-def yuv_psnr(ref_planes: Sequence[np.ndarray], test_planes: Sequence[np.ndarray], *,
-             bits: int, mask: np.ndarray | None = None) -> float:
+def yuv_psnr(
+    ref_planes: Sequence[np.ndarray],
+    test_planes: Sequence[np.ndarray],
+    *,
+    bits: int,
+    mask: np.ndarray | None = None,
+) -> float:
     """Weighted YUV-PSNR ``(6 PSNR_Y + PSNR_U + PSNR_V) / 8`` of a frame, in dB.
 
     The 6:1:1 weighting is the MPEG convention (JVET/JCT-VC common test

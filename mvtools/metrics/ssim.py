@@ -47,8 +47,10 @@ def ssim(ref: np.ndarray, test: np.ndarray, *, max_value: float) -> float:
     """
     ref, test = plane_pair(ref, test, max_value)
     if min(ref.shape) < WINDOW_SIZE:
-        raise ValueError(f"SSIM needs planes of at least {WINDOW_SIZE}x{WINDOW_SIZE}, "
-                         f"got {ref.shape[1]}x{ref.shape[0]}")
+        raise ValueError(
+            f"SSIM needs planes of at least {WINDOW_SIZE}x{WINDOW_SIZE}, "
+            f"got {ref.shape[1]}x{ref.shape[0]}"
+        )
     x = ref.astype(np.float64)
     y = test.astype(np.float64)
     kernel = cv2.getGaussianKernel(WINDOW_SIZE, WINDOW_SIGMA, cv2.CV_64F)
@@ -56,8 +58,7 @@ def ssim(ref: np.ndarray, test: np.ndarray, *, max_value: float) -> float:
 
     def local_mean(image: np.ndarray) -> np.ndarray:
         # Any border mode works: the cropped "valid" part never reads it.
-        filtered = cv2.sepFilter2D(image, cv2.CV_64F, kernel, kernel,
-                                   borderType=cv2.BORDER_REFLECT)
+        filtered = cv2.sepFilter2D(image, cv2.CV_64F, kernel, kernel, borderType=cv2.BORDER_REFLECT)
         return filtered[half:-half, half:-half]
 
     mu_x = local_mean(x)
@@ -67,6 +68,9 @@ def ssim(ref: np.ndarray, test: np.ndarray, *, max_value: float) -> float:
     cov_xy = local_mean(x * y) - mu_x * mu_y
     c1 = (K1 * max_value) ** 2
     c2 = (K2 * max_value) ** 2
-    ssim_map = ((2 * mu_x * mu_y + c1) * (2 * cov_xy + c2)
-                / ((mu_x * mu_x + mu_y * mu_y + c1) * (var_x + var_y + c2)))
+    ssim_map = (
+        (2 * mu_x * mu_y + c1)
+        * (2 * cov_xy + c2)
+        / ((mu_x * mu_x + mu_y * mu_y + c1) * (var_x + var_y + c2))
+    )
     return float(ssim_map.mean())

@@ -17,8 +17,13 @@ __all__ = ["VIDEO_METRICS", "frame_scores"]
 VIDEO_METRICS = ("psnr", "ssim", "ivpsnr")
 
 
-def frame_scores(reference: Sequence[np.ndarray], test: Sequence[np.ndarray], *, bits: int,
-                 metrics: Sequence[str] = VIDEO_METRICS) -> dict[str, float]:
+def frame_scores(
+    reference: Sequence[np.ndarray],
+    test: Sequence[np.ndarray],
+    *,
+    bits: int,
+    metrics: Sequence[str] = VIDEO_METRICS,
+) -> dict[str, float]:
     """Scores of a frame against its reference.
 
     Parameters
@@ -41,13 +46,14 @@ def frame_scores(reference: Sequence[np.ndarray], test: Sequence[np.ndarray], *,
         raise ValueError(f"unknown metric {unknown[0]!r}, they are {', '.join(VIDEO_METRICS)}")
     scores = {}
     if "psnr" in metrics:
-        for name, value in zip(("Y-PSNR", "U-PSNR", "V-PSNR"),
-                               plane_psnr(reference, test, bits=bits)):
+        for name, value in zip(
+            ("Y-PSNR", "U-PSNR", "V-PSNR"), plane_psnr(reference, test, bits=bits)
+        ):
             scores[name] = value
         if len(reference) == 3:
             scores["YUV-PSNR"] = yuv_psnr(reference, test, bits=bits)
     if "ssim" in metrics:
-        scores["Y-SSIM"] = ssim(reference[0], test[0], max_value=2 ** bits - 1)
+        scores["Y-SSIM"] = ssim(reference[0], test[0], max_value=2**bits - 1)
     if "ivpsnr" in metrics:
         scores["IV-PSNR"] = iv_psnr(reference, test, bits=bits)
     return scores

@@ -4,5 +4,12 @@ and unpacking of frames."""
 from mvtools.pack.frames import CHROMA_FACTORS, pack_frame, unpack_frame
 from mvtools.pack.layout import LAYOUTS, Layout, Placement, plan_layout
 
-__all__ = ["LAYOUTS", "Layout", "Placement", "plan_layout", "pack_frame", "unpack_frame",
-           "CHROMA_FACTORS"]
+__all__ = [
+    "CHROMA_FACTORS",
+    "LAYOUTS",
+    "Layout",
+    "Placement",
+    "pack_frame",
+    "plan_layout",
+    "unpack_frame",
+]

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["raw_bitrate", "compressed_bitrate", "HD_BITRATES", "CHROMA_SAMPLES"]
+__all__ = ["CHROMA_SAMPLES", "HD_BITRATES", "compressed_bitrate", "raw_bitrate"]
 
 # Samples per pixel, luma plus both chroma planes.
 CHROMA_SAMPLES = {"420": 1.5, "422": 2.0, "444": 3.0, "400": 1.0}
@@ -24,12 +24,15 @@ _HD_PIXEL_RATE = 1920 * 1080 * 25
 
 def _check(width, height, fps, views):
     if width < 1 or height < 1 or not 0 < fps < math.inf or views < 1:
-        raise ValueError(f"need a positive size, frame rate and view count, got {width}x{height}, "
-                         f"{fps} frames/s, {views} views")
+        raise ValueError(
+            f"need a positive size, frame rate and view count, got {width}x{height}, "
+            f"{fps} frames/s, {views} views"
+        )
 
 
-def raw_bitrate(width: int, height: int, *, fps: float, views: int = 1, bits: int = 8,
-                chroma: str = "420") -> float:
+def raw_bitrate(
+    width: int, height: int, *, fps: float, views: int = 1, bits: int = 8, chroma: str = "420"
+) -> float:
     """Bit/s of uncompressed video from ``views`` cameras (the chapter's eq. 1.7).
 
     ``width * height * samples per pixel * bits * fps * views``; nine HD cameras at
@@ -41,8 +44,9 @@ def raw_bitrate(width: int, height: int, *, fps: float, views: int = 1, bits: in
     return width * height * CHROMA_SAMPLES[chroma] * bits * fps * views
 
 
-def compressed_bitrate(width: int, height: int, *, fps: float, views: int = 1,
-                       codec: str = "hevc") -> float:
+def compressed_bitrate(
+    width: int, height: int, *, fps: float, views: int = 1, codec: str = "hevc"
+) -> float:
     """Estimated bit/s of ``views`` views coded one by one (simulcast) with ``codec``
     (the chapter's eq. 1.21-1.22): ten HD views with HEVC need about 40 Mbit/s."""
     _check(width, height, fps, views)

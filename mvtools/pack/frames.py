@@ -19,8 +19,12 @@ def _plane_box(placement: Placement, plane: int, chroma: str) -> tuple[int, int,
     if plane == 0:
         return placement.x, placement.y, placement.width, placement.height
     fx, fy = CHROMA_FACTORS[chroma]
-    return (placement.x // fx, placement.y // fy, -(-placement.width // fx),
-            -(-placement.height // fy))
+    return (
+        placement.x // fx,
+        placement.y // fy,
+        -(-placement.width // fx),
+        -(-placement.height // fy),
+    )
 
 
 def _decimate(plane: np.ndarray, factors: tuple[int, int]) -> np.ndarray:
@@ -30,8 +34,11 @@ def _decimate(plane: np.ndarray, factors: tuple[int, int]) -> np.ndarray:
         if factor == 1:
             continue
         size = values.shape[axis]
-        padded = np.concatenate([values, np.take(values, [-1], axis=axis)], axis=axis) \
-            if size % 2 else values
+        padded = (
+            np.concatenate([values, np.take(values, [-1], axis=axis)], axis=axis)
+            if size % 2
+            else values
+        )
         first = np.take(padded, np.arange(0, padded.shape[axis], 2), axis=axis)
         second = np.take(padded, np.arange(1, padded.shape[axis], 2), axis=axis)
         values = (first + second) / 2.0
@@ -52,13 +59,16 @@ def _interpolate(plane: np.ndarray, factors: tuple[int, int], shape: tuple[int, 
         weight_shape = [1, 1]
         weight_shape[axis] = size
         weight = weight.reshape(weight_shape)
-        values = (np.take(values, low, axis=axis) * (1 - weight)
-                  + np.take(values, high, axis=axis) * weight)
+        values = (
+            np.take(values, low, axis=axis) * (1 - weight)
+            + np.take(values, high, axis=axis) * weight
+        )
     return np.round(values).astype(plane.dtype)
 
 
-def pack_frame(layout: Layout, views: Mapping[tuple[str, str], Sequence[np.ndarray]], *,
-               chroma: str, bits: int) -> list[np.ndarray]:
+def pack_frame(
+    layout: Layout, views: Mapping[tuple[str, str], Sequence[np.ndarray]], *, chroma: str, bits: int
+) -> list[np.ndarray]:
     """One packed frame.
 
     Parameters
@@ -90,20 +100,23 @@ def pack_frame(layout: Layout, views: Mapping[tuple[str, str], Sequence[np.ndarr
         for index, packed in enumerate(planes):
             x, y, width, height = _plane_box(placement, index, chroma)
             if index >= len(source):
-                packed[y:y + height, x:x + width] = mid
+                packed[y : y + height, x : x + width] = mid
                 continue
             plane = _decimate(np.asarray(source[index]), placement.decimation)
             if plane.shape != (height, width):
-                raise ValueError(f"plane {index} of {placement.kind} {placement.name!r} has "
-                                 f"shape {np.shape(source[index])}, which the layout does not "
-                                 f"expect for {placement.source_width}x"
-                                 f"{placement.source_height} {chroma} samples")
-            packed[y:y + height, x:x + width] = plane
+                raise ValueError(
+                    f"plane {index} of {placement.kind} {placement.name!r} has "
+                    f"shape {np.shape(source[index])}, which the layout does not "
+                    f"expect for {placement.source_width}x"
+                    f"{placement.source_height} {chroma} samples"
+                )
+            packed[y : y + height, x : x + width] = plane
     return planes
 
 
-def unpack_frame(layout: Layout, planes: Sequence[np.ndarray], *, chroma: str,
-                 depth_planes: int = 1) -> dict[tuple[str, str], list[np.ndarray]]:
+def unpack_frame(
+    layout: Layout, planes: Sequence[np.ndarray], *, chroma: str, depth_planes: int = 1
+) -> dict[tuple[str, str], list[np.ndarray]]:
     """Every view of a packed frame, at its own size.
 
     Parameters
@@ -123,21 +136,26 @@ def unpack_frame(layout: Layout, planes: Sequence[np.ndarray], *, chroma: str,
     if len(planes) != (1 if chroma == "400" else 3):
         raise ValueError(f"{len(planes)} planes for {chroma} frames")
     if planes[0].shape != (layout.height, layout.width):
-        raise ValueError(f"the packed frame is {planes[0].shape[1]}x{planes[0].shape[0]}, the "
-                         f"layout {layout.width}x{layout.height}")
+        raise ValueError(
+            f"the packed frame is {planes[0].shape[1]}x{planes[0].shape[0]}, the "
+            f"layout {layout.width}x{layout.height}"
+        )
     views = {}
     for placement in layout.placements:
         count = depth_planes if placement.kind == "depth" else len(planes)
         restored = []
         for index in range(count):
             x, y, width, height = _plane_box(placement, index, chroma)
-            plane = planes[index][y:y + height, x:x + width]
+            plane = planes[index][y : y + height, x : x + width]
             if index == 0:
                 shape = (placement.source_height, placement.source_width)
             else:
                 fx, fy = CHROMA_FACTORS[chroma]
                 shape = (-(-placement.source_height // fy), -(-placement.source_width // fx))
-            restored.append(_interpolate(plane, placement.decimation, shape)
-                            if placement.decimation != (1, 1) else np.array(plane))
+            restored.append(
+                _interpolate(plane, placement.decimation, shape)
+                if placement.decimation != (1, 1)
+                else np.array(plane)
+            )
         views[(placement.name, placement.kind)] = restored
     return views

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["Placement", "Layout", "LAYOUTS", "plan_layout"]
+__all__ = ["LAYOUTS", "Layout", "Placement", "plan_layout"]
 
 LAYOUTS = ("side-by-side", "top-bottom", "grid", "atlas")
 KINDS = ("texture", "depth")
@@ -85,16 +85,32 @@ def _rows_of(views, columns, kind, decimation, origin_y, cell):
     for index, (name, (width, height)) in enumerate(views):
         row, column = divmod(index, columns)
         packed = (-(-width // decimation[0]), -(-height // decimation[1]))
-        placements.append(Placement(name=name, kind=kind, x=column * cell_width,
-                                    y=origin_y + row * cell_height, width=packed[0],
-                                    height=packed[1], source_width=width,
-                                    source_height=height, decimation=decimation))
+        placements.append(
+            Placement(
+                name=name,
+                kind=kind,
+                x=column * cell_width,
+                y=origin_y + row * cell_height,
+                width=packed[0],
+                height=packed[1],
+                source_width=width,
+                source_height=height,
+                decimation=decimation,
+            )
+        )
     return placements
 
 
-def plan_layout(views, *, layout: str, depths=(), columns: int | None = None,
-                half: bool = False, block: int = 8,
-                frame_size: tuple[int, int] | None = None) -> Layout:
+def plan_layout(
+    views,
+    *,
+    layout: str,
+    depths=(),
+    columns: int | None = None,
+    half: bool = False,
+    block: int = 8,
+    frame_size: tuple[int, int] | None = None,
+) -> Layout:
     """Where each view goes.
 
     Parameters
@@ -147,8 +163,10 @@ def plan_layout(views, *, layout: str, depths=(), columns: int | None = None,
         decimation = (2, 1) if layout == "side-by-side" else (1, 2)
     everything = views + depths
     # one cell size for all: views of different sizes keep their own size inside it
-    cell = (_even(max(-(-width // decimation[0]) for _, (width, _) in everything)),
-            _even(max(-(-height // decimation[1]) for _, (_, height) in everything)))
+    cell = (
+        _even(max(-(-width // decimation[0]) for _, (width, _) in everything)),
+        _even(max(-(-height // decimation[1]) for _, (_, height) in everything)),
+    )
     placements = _rows_of(views, columns, "texture", decimation, 0, cell)
     texture_rows = -(-len(views) // columns)
     placements += _rows_of(depths, columns, "depth", decimation, texture_rows * cell[1], cell)
@@ -158,10 +176,16 @@ def plan_layout(views, *, layout: str, depths=(), columns: int | None = None,
     if frame_size is None:
         frame_size = (-(-width // block) * block, -(-height // block) * block)
     elif frame_size[0] < width or frame_size[1] < height:
-        raise ValueError(f"{len(views)} views{f' and {len(depths)} depth maps' if depths else ''}"
-                         f" in {columns} columns take {width}x{height} samples, more than the "
-                         f"{frame_size[0]}x{frame_size[1]} frame")
+        raise ValueError(
+            f"{len(views)} views{f' and {len(depths)} depth maps' if depths else ''}"
+            f" in {columns} columns take {width}x{height} samples, more than the "
+            f"{frame_size[0]}x{frame_size[1]} frame"
+        )
     elif frame_size[0] % 2 or frame_size[1] % 2:
         raise ValueError(f"the packed frame size must be even, got {frame_size}")
-    return Layout(kind=layout, width=int(frame_size[0]), height=int(frame_size[1]),
-                  placements=tuple(placements))
+    return Layout(
+        kind=layout,
+        width=int(frame_size[0]),
+        height=int(frame_size[1]),
+        placements=tuple(placements),
+    )

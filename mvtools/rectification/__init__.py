@@ -7,10 +7,30 @@
   through those maps.
 """
 
-from mvtools.rectification.array import (EDGE_TOLERANCE, Rectification, cameras_between,
-                                         rectify_cameras, undistortion)
-from mvtools.rectification.maps import (CHROMA_SITING, DepthResampler, chroma_maps,
-                                        rectified_depth, remap_plane)
+from mvtools.rectification.array import (
+    EDGE_TOLERANCE,
+    Rectification,
+    cameras_between,
+    rectify_cameras,
+    undistortion,
+)
+from mvtools.rectification.maps import (
+    CHROMA_SITING,
+    DepthResampler,
+    chroma_maps,
+    rectified_depth,
+    remap_plane,
+)
 
-__all__ = ["Rectification", "rectify_cameras", "undistortion", "cameras_between", "remap_plane",
-           "chroma_maps", "rectified_depth", "DepthResampler", "EDGE_TOLERANCE", "CHROMA_SITING"]
+__all__ = [
+    "CHROMA_SITING",
+    "EDGE_TOLERANCE",
+    "DepthResampler",
+    "Rectification",
+    "cameras_between",
+    "chroma_maps",
+    "rectified_depth",
+    "rectify_cameras",
+    "remap_plane",
+    "undistortion",
+]

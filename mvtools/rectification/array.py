@@ -37,6 +37,7 @@ from outside).
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import cv2
@@ -46,8 +47,7 @@ from mvtools.errors import DataError
 from mvtools.geometry.camera import Camera
 from mvtools.scene.render import project_points, undistort_normalized
 
-__all__ = ["Rectification", "rectify_cameras", "undistortion", "cameras_between",
-           "EDGE_TOLERANCE"]
+__all__ = ["EDGE_TOLERANCE", "Rectification", "cameras_between", "rectify_cameras", "undistortion"]
 
 # Positions this close outside a picture (pixels) still count as inside: float32
 # maps of a 2000-pixel picture are exact to about 1e-4.
@@ -121,34 +121,42 @@ class Rectification:
         if points.ndim != 2 or points.shape[1] != 2:
             raise ValueError(f"points_px must have shape (N, 2), got {points.shape}")
         if not 0 <= camera_index < len(self.cameras):
-            raise ValueError(f"camera_index must be in 0..{len(self.cameras) - 1}, "
-                             f"got {camera_index}")
-        return _to_output(self.sources[camera_index], self.cameras[camera_index],
-                          points[:, 0], points[:, 1])
+            raise ValueError(
+                f"camera_index must be in 0..{len(self.cameras) - 1}, got {camera_index}"
+            )
+        return _to_output(
+            self.sources[camera_index], self.cameras[camera_index], points[:, 0], points[:, 1]
+        )
 
 
 # --------------------------------------------------------------------------- arguments
 
+
 def _check_cameras(cameras, minimum: int) -> list[Camera]:
     cameras = list(cameras)
     if len(cameras) < minimum:
-        raise ValueError(f"need at least {minimum} camera{'s' if minimum > 1 else ''}, "
-                         f"got {len(cameras)}")
+        raise ValueError(
+            f"need at least {minimum} camera{'s' if minimum > 1 else ''}, got {len(cameras)}"
+        )
     for camera in cameras:
         if camera.size is None:
-            raise ValueError(f"camera {camera.name!r} has no size; set camera.size = "
-                             "(width, height) of its pictures")
+            raise ValueError(
+                f"camera {camera.name!r} has no size; set camera.size = "
+                "(width, height) of its pictures"
+            )
         width, height = camera.size
         if width < 2 or height < 2:
-            raise ValueError(f"camera {camera.name!r}: picture size must be at least 2x2, "
-                             f"got {width}x{height}")
+            raise ValueError(
+                f"camera {camera.name!r}: picture size must be at least 2x2, got {width}x{height}"
+            )
     return cameras
 
 
 def _check_alpha(alpha: float) -> float:
     if not 0.0 <= alpha <= 1.0:
-        raise ValueError(f"alpha must be in [0, 1] (0: only valid pixels, 1: all source "
-                         f"pixels), got {alpha}")
+        raise ValueError(
+            f"alpha must be in [0, 1] (0: only valid pixels, 1: all source pixels), got {alpha}"
+        )
     return float(alpha)
 
 
@@ -164,12 +172,15 @@ def _common_size(cameras: list[Camera], size) -> tuple[int, int]:
         return _check_size(size)
     sizes = {tuple(camera.size) for camera in cameras}
     if len(sizes) > 1:
-        raise ValueError(f"the cameras' picture sizes differ ({sorted(sizes)}); pass "
-                         "size=(width, height) for the output")
+        raise ValueError(
+            f"the cameras' picture sizes differ ({sorted(sizes)}); pass "
+            "size=(width, height) for the output"
+        )
     return _check_size(sizes.pop())
 
 
 # --------------------------------------------------------------------------- geometry
+
 
 def _rotation_degrees(rotation: np.ndarray) -> float:
     # atan2 of sine and cosine stays accurate for the tiny angles of a built rig.
@@ -185,9 +196,11 @@ def _common_orientation(cameras: list[Camera]) -> tuple[np.ndarray, np.ndarray]:
     for i in range(len(cameras)):
         for j in range(i + 1, len(cameras)):
             if np.linalg.norm(centres[i] - centres[j]) <= 1e-9 * scale:
-                raise ValueError(f"cameras {cameras[i].name!r} and {cameras[j].name!r} have "
-                                 f"the same centre {centres[i].tolist()}; rectification needs "
-                                 "distinct centres on a line")
+                raise ValueError(
+                    f"cameras {cameras[i].name!r} and {cameras[j].name!r} have "
+                    f"the same centre {centres[i].tolist()}; rectification needs "
+                    "distinct centres on a line"
+                )
     offsets_from_mean = centres - centres.mean(axis=0)
     direction = np.linalg.svd(offsets_from_mean)[2][0]
     if direction @ np.mean([camera.R[0] for camera in cameras], axis=0) < 0:
@@ -195,8 +208,10 @@ def _common_orientation(cameras: list[Camera]) -> tuple[np.ndarray, np.ndarray]:
     mean_axis = np.mean([camera.R[2] for camera in cameras], axis=0)
     forward = mean_axis - (mean_axis @ direction) * direction
     if np.linalg.norm(forward) < 1e-6:
-        raise ValueError("the cameras look along the line through their centres; a linear "
-                         "array must look across it")
+        raise ValueError(
+            "the cameras look along the line through their centres; a linear "
+            "array must look across it"
+        )
     forward /= np.linalg.norm(forward)
     rotation = np.stack([direction, np.cross(forward, direction), forward])
     across = offsets_from_mean - np.outer(offsets_from_mean @ direction, direction)
@@ -205,6 +220,7 @@ def _common_orientation(cameras: list[Camera]) -> tuple[np.ndarray, np.ndarray]:
 
 def _border(width: int, height: int) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """A closed loop of points along the border of a picture, and which side each is on."""
+
     def line(start, stop):
         count = int(np.ceil(abs(stop - start) / _BORDER_STEP)) + 1
         return np.linspace(start, stop, count)[:-1]
@@ -248,15 +264,19 @@ def _to_output(source: Camera, output: Camera, u: np.ndarray, v: np.ndarray) -> 
 def _inside(uv: np.ndarray, size) -> np.ndarray:
     width, height = size
     with np.errstate(invalid="ignore"):
-        return ((uv[..., 0] >= -EDGE_TOLERANCE) & (uv[..., 0] <= width - 1 + EDGE_TOLERANCE)
-                & (uv[..., 1] >= -EDGE_TOLERANCE) & (uv[..., 1] <= height - 1 + EDGE_TOLERANCE))
+        return (
+            (uv[..., 0] >= -EDGE_TOLERANCE)
+            & (uv[..., 0] <= width - 1 + EDGE_TOLERANCE)
+            & (uv[..., 1] >= -EDGE_TOLERANCE)
+            & (uv[..., 1] <= height - 1 + EDGE_TOLERANCE)
+        )
 
 
 def _pixel_blocks(width: int, height: int):
     """``(u, v)`` of every pixel of a picture, flat, in bands of rows."""
     step = max(1, _BLOCK_PIXELS // width)
     for start in range(0, height, step):
-        v, u = np.mgrid[start:min(height, start + step), 0:width].astype(np.float64)
+        v, u = np.mgrid[start : min(height, start + step), 0:width].astype(np.float64)
         yield u.ravel(), v.ravel()
 
 
@@ -267,16 +287,28 @@ def _chebyshev_distance(point: np.ndarray, loop: np.ndarray) -> float:
     # max(|a_x + s d_x|, |a_y + s d_y|) is convex and piecewise linear in s: its minimum
     # over [0, 1] is at an end or where a term vanishes or the two terms are equal.
     with np.errstate(divide="ignore", invalid="ignore"):
-        s = np.stack([np.zeros(len(a)), np.ones(len(a)), -a[:, 0] / d[:, 0], -a[:, 1] / d[:, 1],
-                      -(a[:, 0] - a[:, 1]) / (d[:, 0] - d[:, 1]),
-                      -(a[:, 0] + a[:, 1]) / (d[:, 0] + d[:, 1])])
+        s = np.stack(
+            [
+                np.zeros(len(a)),
+                np.ones(len(a)),
+                -a[:, 0] / d[:, 0],
+                -a[:, 1] / d[:, 1],
+                -(a[:, 0] - a[:, 1]) / (d[:, 0] - d[:, 1]),
+                -(a[:, 0] + a[:, 1]) / (d[:, 0] + d[:, 1]),
+            ]
+        )
     s = np.clip(np.nan_to_num(s, nan=0.0, posinf=0.0, neginf=0.0), 0.0, 1.0)
     distance = np.maximum(np.abs(a[:, 0] + s * d[:, 0]), np.abs(a[:, 1] + s * d[:, 1]))
     return float(distance.min())
 
 
-def _output_intrinsics(sources: list[Camera], rotations: list[np.ndarray], focal: np.ndarray,
-                       size: tuple[int, int], alpha: float) -> np.ndarray:
+def _output_intrinsics(
+    sources: list[Camera],
+    rotations: list[np.ndarray],
+    focal: np.ndarray,
+    size: tuple[int, int],
+    alpha: float,
+) -> np.ndarray:
     """The one output K for ``sources`` turned to ``rotations`` (module docstring).
 
     Outlines are measured in units of ``focal`` times the normalised image coordinates,
@@ -290,19 +322,29 @@ def _output_intrinsics(sources: list[Camera], rotations: list[np.ndarray], focal
         outline = _turned(rotation @ source.R.T, *_normalized(source, border[:, 0], border[:, 1]))
         if np.any(np.isnan(outline)):
             turn = _rotation_degrees(rotation @ source.R.T)
-            raise DataError(f"camera {source.name!r} would turn by {turn:.1f} degrees, so far "
-                            "that part of its picture lies behind the output view",
-                            key=source.name)
+            raise DataError(
+                f"camera {source.name!r} would turn by {turn:.1f} degrees, so far "
+                "that part of its picture lies behind the output view",
+                key=source.name,
+            )
         outlines.append(outline * focal / half)
         sides.append(border_sides)
     everything = np.concatenate(outlines)
     low, high = everything.min(axis=0), everything.max(axis=0)
     centre, radius = (low + high) / 2.0, float(np.max(high - low)) / 2.0
     if alpha < 1.0:
-        inner_low = np.array([max(o[s["left"], 0].max() for o, s in zip(outlines, sides)),
-                              max(o[s["top"], 1].max() for o, s in zip(outlines, sides))])
-        inner_high = np.array([min(o[s["right"], 0].min() for o, s in zip(outlines, sides)),
-                               min(o[s["bottom"], 1].min() for o, s in zip(outlines, sides))])
+        inner_low = np.array(
+            [
+                max(o[s["left"], 0].max() for o, s in zip(outlines, sides)),
+                max(o[s["top"], 1].max() for o, s in zip(outlines, sides)),
+            ]
+        )
+        inner_high = np.array(
+            [
+                min(o[s["right"], 0].min() for o, s in zip(outlines, sides)),
+                min(o[s["bottom"], 1].min() for o, s in zip(outlines, sides)),
+            ]
+        )
         inner_centre = (inner_low + inner_high) / 2.0
         inner_radius = min(_chebyshev_distance(inner_centre, outline) for outline in outlines)
         _check_common_view(sources, rotations, inner_centre * half / focal, inner_radius)
@@ -313,8 +355,9 @@ def _output_intrinsics(sources: list[Camera], rotations: list[np.ndarray], focal
     return np.array([[f[0], 0.0, principal[0]], [0.0, f[1], principal[1]], [0.0, 0.0, 1.0]])
 
 
-def _check_common_view(sources: list[Camera], rotations: list[np.ndarray],
-                       normalized: np.ndarray, radius: float) -> None:
+def _check_common_view(
+    sources: list[Camera], rotations: list[np.ndarray], normalized: np.ndarray, radius: float
+) -> None:
     """DataError unless the output ray through ``normalized`` (x, y) hits every picture
     and the rectangle about it is not empty."""
     for source, rotation in zip(sources, rotations):
@@ -322,12 +365,16 @@ def _check_common_view(sources: list[Camera], rotations: list[np.ndarray],
         uv, z = project_points(source, source.t + ray[None])
         if not (z[0] > 0 and _inside(uv, source.size)[0] and radius > 0):
             names = ", ".join(repr(camera.name) for camera in sources)
-            raise DataError(f"the pictures of cameras {names} share no common region after "
-                            f"turning (camera {source.name!r} misses it); alpha = 1 keeps "
-                            "every picture whole", key=source.name)
+            raise DataError(
+                f"the pictures of cameras {names} share no common region after "
+                f"turning (camera {source.name!r} misses it); alpha = 1 keeps "
+                "every picture whole",
+                key=source.name,
+            )
 
 
 # --------------------------------------------------------------------------- resampling
+
 
 def _maps(source: Camera, output: Camera) -> tuple[np.ndarray, np.ndarray]:
     """``cv2.initUndistortRectifyMap`` from ``output`` pixels to ``source`` pixels."""
@@ -335,41 +382,62 @@ def _maps(source: Camera, output: Camera) -> tuple[np.ndarray, np.ndarray]:
     without_skew = source.K.copy()
     without_skew[0, 1] = 0.0
     map_x, map_y = cv2.initUndistortRectifyMap(
-        without_skew, np.pad(coefficients, (0, 5 - coefficients.size)),
-        output.R @ source.R.T, output.K, tuple(output.size), cv2.CV_32FC1)
+        without_skew,
+        np.pad(coefficients, (0, 5 - coefficients.size)),
+        output.R @ source.R.T,
+        output.K,
+        tuple(output.size),
+        cv2.CV_32FC1,
+    )
     # OpenCV ignores the skew of the source: u = fx x + s y + cx adds s y = s (v - cy) / fy.
     if source.K[0, 1] != 0.0:
         map_x += np.float32(source.K[0, 1] / source.K[1, 1]) * (map_y - np.float32(source.cy))
     return map_x, map_y
 
 
-def _resample(sources: list[Camera], outputs: list[Camera],
-              centre_offsets: np.ndarray) -> Rectification:
+def _resample(
+    sources: list[Camera], outputs: list[Camera], centre_offsets: np.ndarray
+) -> Rectification:
     maps, homographies, valid, kept, degrees = [], [], [], [], []
     for source, output in zip(sources, outputs):
         map_x, map_y = _maps(source, output)
         inside = _inside(np.stack([map_x, map_y], axis=-1), source.size)
-        kept_count = sum(int(np.count_nonzero(_inside(_to_output(source, output, u, v),
-                                                      output.size)))
-                         for u, v in _pixel_blocks(*source.size))
+        kept_count = sum(
+            int(np.count_nonzero(_inside(_to_output(source, output, u, v), output.size)))
+            for u, v in _pixel_blocks(*source.size)
+        )
         turn = output.R @ source.R.T
         maps.append((map_x, map_y))
         homographies.append(output.K @ turn @ np.linalg.inv(source.K))
         valid.append(float(np.mean(inside)))
         kept.append(kept_count / (source.size[0] * source.size[1]))
         degrees.append(_rotation_degrees(turn))
-    return Rectification(cameras=outputs, maps=maps, homographies=homographies,
-                         valid_fraction=valid, kept_fraction=kept,
-                         centre_offsets=np.asarray(centre_offsets, dtype=np.float64),
-                         rotation_degrees=degrees, sources=sources)
+    return Rectification(
+        cameras=outputs,
+        maps=maps,
+        homographies=homographies,
+        valid_fraction=valid,
+        kept_fraction=kept,
+        centre_offsets=np.asarray(centre_offsets, dtype=np.float64),
+        rotation_degrees=degrees,
+        sources=sources,
+    )
 
 
 def _output_camera(source: Camera, K: np.ndarray, R: np.ndarray, size) -> Camera:
-    return Camera(name=source.name, K=K, R=R, t=source.t.copy(), distortion=np.zeros(2),
-                  size=(int(size[0]), int(size[1])), depth_range=source.depth_range)
+    return Camera(
+        name=source.name,
+        K=K,
+        R=R,
+        t=source.t.copy(),
+        distortion=np.zeros(2),
+        size=(int(size[0]), int(size[1])),
+        depth_range=source.depth_range,
+    )
 
 
 # --------------------------------------------------------------------------- public
+
 
 def rectify_cameras(cameras, *, alpha: float = 0.0, size=None) -> Rectification:
     """Rectify a pair or a linear array of cameras (module docstring).
@@ -439,8 +507,9 @@ def undistortion(cameras, *, alpha: float = 0.0, size=None) -> Rectification:
     outputs = []
     for camera in cameras:
         out_size = _check_size(camera.size if size is None else size)
-        K = _output_intrinsics([camera], [camera.R], np.array([camera.fx, camera.fy]),
-                               out_size, alpha)
+        K = _output_intrinsics(
+            [camera], [camera.R], np.array([camera.fx, camera.fy]), out_size, alpha
+        )
         outputs.append(_output_camera(camera, K, camera.R, out_size))
     return _resample(cameras, outputs, np.full(len(cameras), np.nan))
 
@@ -469,16 +538,26 @@ def cameras_between(cameras, count: int) -> list[Camera]:
     if count < 1:
         raise ValueError(f"count must be at least 1, got {count}")
     if len(cameras) < 2:
-        raise ValueError(f"virtual cameras go between neighbours: need 2 cameras, got "
-                         f"{len(cameras)}")
+        raise ValueError(
+            f"virtual cameras go between neighbours: need 2 cameras, got {len(cameras)}"
+        )
     virtual = []
-    for left, right in zip(cameras, cameras[1:]):
+    for left, right in itertools.pairwise(cameras):
         if not (np.allclose(left.K, right.K) and np.allclose(left.R, right.R)):
-            raise ValueError(f"cameras {left.name!r} and {right.name!r} are not rectified "
-                             "alike (their K or R differ)")
+            raise ValueError(
+                f"cameras {left.name!r} and {right.name!r} are not rectified "
+                "alike (their K or R differ)"
+            )
         for k in range(1, count + 1):
             fraction = k / (count + 1)
-            virtual.append(Camera(f"{left.name}_{right.name}_{k}", K=left.K, R=left.R,
-                                  t=(1 - fraction) * left.t + fraction * right.t,
-                                  size=left.size, depth_range=left.depth_range))
+            virtual.append(
+                Camera(
+                    f"{left.name}_{right.name}_{k}",
+                    K=left.K,
+                    R=left.R,
+                    t=(1 - fraction) * left.t + fraction * right.t,
+                    size=left.size,
+                    depth_range=left.depth_range,
+                )
+            )
     return virtual

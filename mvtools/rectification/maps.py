@@ -14,7 +14,7 @@ import numpy as np
 from mvtools.geometry.camera import Camera
 from mvtools.scene.render import pixel_rays
 
-__all__ = ["remap_plane", "chroma_maps", "rectified_depth", "CHROMA_SITING"]
+__all__ = ["CHROMA_SITING", "chroma_maps", "rectified_depth", "remap_plane"]
 
 # Position of chroma sample (0, 0) on the luma grid, per subsampling (horizontal,
 # vertical): MPEG-2 / H.264 / HEVC default (chroma_sample_loc_type 0): co-sited
@@ -28,8 +28,9 @@ def _check_maps(map_x: np.ndarray, map_y: np.ndarray) -> tuple[np.ndarray, np.nd
     map_x = np.asarray(map_x)
     map_y = np.asarray(map_y)
     if map_x.ndim != 2 or map_x.shape != map_y.shape:
-        raise ValueError(f"map_x and map_y must be 2-D arrays of one shape, got {map_x.shape} "
-                         f"and {map_y.shape}")
+        raise ValueError(
+            f"map_x and map_y must be 2-D arrays of one shape, got {map_x.shape} and {map_y.shape}"
+        )
     return map_x, map_y
 
 
@@ -42,8 +43,9 @@ def _check_plane(plane: np.ndarray, what: str = "plane") -> np.ndarray:
     return plane
 
 
-def _nearest_pixels(map_x, map_y, width: int, height: int
-                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _nearest_pixels(
+    map_x, map_y, width: int, height: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The source pixel nearest to each map position, and whether it exists.
 
     Parameters
@@ -95,10 +97,14 @@ def remap_plane(plane, map_x, map_y, *, nearest: bool = False, fill=0) -> np.nda
     if nearest:
         column, row, inside = _nearest_pixels(map_x, map_y, plane.shape[1], plane.shape[0])
         return np.where(inside, plane[row, column], np.asarray(fill, dtype=plane.dtype))
-    return cv2.remap(plane, map_x.astype(np.float32, copy=False),
-                     map_y.astype(np.float32, copy=False),
-                     interpolation=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
-                     borderValue=float(fill))
+    return cv2.remap(
+        plane,
+        map_x.astype(np.float32, copy=False),
+        map_y.astype(np.float32, copy=False),
+        interpolation=cv2.INTER_LINEAR,
+        borderMode=cv2.BORDER_CONSTANT,
+        borderValue=float(fill),
+    )
 
 
 def _linear_at(values: np.ndarray, positions: np.ndarray, axis: int) -> np.ndarray:
@@ -112,12 +118,13 @@ def _linear_at(values: np.ndarray, positions: np.ndarray, axis: int) -> np.ndarr
     shape = [1, 1]
     shape[axis] = len(positions)
     weight = weight.reshape(shape)
-    return (np.take(values, lower, axis=axis) * (1.0 - weight)
-            + np.take(values, lower + 1, axis=axis) * weight)
+    return (
+        np.take(values, lower, axis=axis) * (1.0 - weight)
+        + np.take(values, lower + 1, axis=axis) * weight
+    )
 
 
-def chroma_maps(map_x, map_y, *, subsampling: tuple[int, int]
-                ) -> tuple[np.ndarray, np.ndarray]:
+def chroma_maps(map_x, map_y, *, subsampling: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     """The maps of the chroma planes, at the chroma resolution, for a luma map pair.
 
     Chroma sample ``(i, j)`` (row, column) sits on the luma grid at
@@ -145,8 +152,10 @@ def chroma_maps(map_x, map_y, *, subsampling: tuple[int, int]
     map_x, map_y = _check_maps(map_x, map_y)
     subsampling = tuple(int(s) for s in subsampling)
     if subsampling not in CHROMA_SITING:
-        raise ValueError(f"subsampling must be (2, 2) for 4:2:0, (2, 1) for 4:2:2 or (1, 1) "
-                         f"for 4:4:4, got {subsampling}")
+        raise ValueError(
+            f"subsampling must be (2, 2) for 4:2:0, (2, 1) for 4:2:2 or (1, 1) "
+            f"for 4:4:4, got {subsampling}"
+        )
     (sx, sy), (ox, oy) = subsampling, CHROMA_SITING[subsampling]
     height, width = map_x.shape
     rows = sy * np.arange(-(-height // sy)) + oy
@@ -182,14 +191,16 @@ class DepthResampler:
         :func:`mvtools.geometry.depth.z_to_depth`.
     """
 
-    def __init__(self, source: Camera, rectified: Camera, map_x, map_y, *,
-                 fill: float = np.inf):
+    def __init__(self, source: Camera, rectified: Camera, map_x, map_y, *, fill: float = np.inf):
         if source.size is None:
             raise ValueError(f"camera {source.name!r} needs its size")
-        if not np.allclose(source.t, rectified.t, rtol=0.0,
-                           atol=1e-12 * max(1.0, float(np.abs(source.t).max()))):
-            raise ValueError(f"camera {rectified.name!r} does not share the centre of "
-                             f"{source.name!r}: {rectified.t.tolist()} != {source.t.tolist()}")
+        if not np.allclose(
+            source.t, rectified.t, rtol=0.0, atol=1e-12 * max(1.0, float(np.abs(source.t).max()))
+        ):
+            raise ValueError(
+                f"camera {rectified.name!r} does not share the centre of "
+                f"{source.name!r}: {rectified.t.tolist()} != {source.t.tolist()}"
+            )
         self.source, self.fill = source, float(fill)
         column, row, self.inside = _nearest_pixels(map_x, map_y, *source.size)
         self.column, self.row = column[self.inside], row[self.inside]
@@ -212,19 +223,24 @@ class DepthResampler:
         """
         depth_z = _check_plane(depth_z, "depth_z")
         if not np.issubdtype(depth_z.dtype, np.floating):
-            raise ValueError(f"depth_z must hold float depths z, got {depth_z.dtype} (convert "
-                             "depth map values with mvtools.geometry.depth.depth_to_z)")
+            raise ValueError(
+                f"depth_z must hold float depths z, got {depth_z.dtype} (convert "
+                "depth map values with mvtools.geometry.depth.depth_to_z)"
+            )
         width, height = self.source.size
         if depth_z.shape != (height, width):
-            raise ValueError(f"depth_z has shape {depth_z.shape}, camera {self.source.name!r} "
-                             f"makes {width}x{height} pictures")
+            raise ValueError(
+                f"depth_z has shape {depth_z.shape}, camera {self.source.name!r} "
+                f"makes {width}x{height} pictures"
+            )
         out = np.full(self.inside.shape, self.fill, dtype=np.float64)
         out[self.inside] = depth_z[self.row, self.column] * self.factor
         return out
 
 
-def rectified_depth(depth_z, source: Camera, rectified: Camera, map_x, map_y, *,
-                    fill: float = np.inf) -> np.ndarray:
+def rectified_depth(
+    depth_z, source: Camera, rectified: Camera, map_x, map_y, *, fill: float = np.inf
+) -> np.ndarray:
     """One depth map through a :class:`DepthResampler` (which see); videos keep the
     resampler for all their frames."""
     return DepthResampler(source, rectified, map_x, map_y, fill=fill)(depth_z)

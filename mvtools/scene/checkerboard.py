@@ -66,8 +66,10 @@ class Checkerboard:
     def extent(self) -> tuple[float, float]:
         """Width and height of the whole board including the border (metres)."""
         columns, rows = self.inner_corners
-        return ((columns + 1) * self.square_size + 2 * self.border,
-                (rows + 1) * self.square_size + 2 * self.border)
+        return (
+            (columns + 1) * self.square_size + 2 * self.border,
+            (rows + 1) * self.square_size + 2 * self.border,
+        )
 
     def __call__(self, s: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Grey RGB at board-centred coordinates ``s, t`` (each (N,)), shape (N, 3).
@@ -87,9 +89,13 @@ class Checkerboard:
         """The board placed at pose ``(rotation, translation)`` as a scene primitive."""
         rotation = np.asarray(rotation, dtype=np.float64)
         width, height = self.extent
-        return Rectangle("checkerboard", center=rotation @ self.center + translation,
-                         half_u=rotation[:, 0] * width / 2.0,
-                         half_v=rotation[:, 1] * height / 2.0, texture=self)
+        return Rectangle(
+            "checkerboard",
+            center=rotation @ self.center + translation,
+            half_u=rotation[:, 0] * width / 2.0,
+            half_v=rotation[:, 1] * height / 2.0,
+            texture=self,
+        )
 
 
 @dataclass(eq=False)
@@ -124,9 +130,14 @@ class CheckerboardCaptures:
     visible: np.ndarray
 
 
-def calibration_rig(*, n: int = 5, size: tuple[int, int] = (640, 480),
-                    focal: float | None = None, baseline: float = 0.1,
-                    seed: int = 0) -> list[Camera]:
+def calibration_rig(
+    *,
+    n: int = 5,
+    size: tuple[int, int] = (640, 480),
+    focal: float | None = None,
+    baseline: float = 0.1,
+    seed: int = 0,
+) -> list[Camera]:
     """A rig of ``n`` nearly parallel cameras, as built: rotations up to 2 degrees,
     principal points within 12 px of the centre, focal lengths within 3 % of
     ``focal`` (default ``0.875 * width``, 560 px at 640, a 60 degree field of view;
@@ -135,12 +146,20 @@ def calibration_rig(*, n: int = 5, size: tuple[int, int] = (640, 480),
     focal = 0.875 * width if focal is None else focal
     K = intrinsics(fx=focal, cx=(width - 1) / 2.0, cy=(height - 1) / 2.0)
     nominal = linear_rig(n, baseline=baseline, K=K, size=size)
-    return perturb_rig(nominal, seed=seed, rotation_degrees=2.0, principal_point_pixels=12.0,
-                       focal_fraction=0.03, k1_range=(-0.1, 0.1), k2_range=(-0.02, 0.02))
+    return perturb_rig(
+        nominal,
+        seed=seed,
+        rotation_degrees=2.0,
+        principal_point_pixels=12.0,
+        focal_fraction=0.03,
+        k1_range=(-0.1, 0.1),
+        k2_range=(-0.02, 0.02),
+    )
 
 
-def corner_visibility(cameras, board: Checkerboard, rotations, translations, *,
-                      margin: float = 10.0) -> tuple[np.ndarray, np.ndarray]:
+def corner_visibility(
+    cameras, board: Checkerboard, rotations, translations, *, margin: float = 10.0
+) -> tuple[np.ndarray, np.ndarray]:
     """Projected inner corners and full-visibility flags.
 
     Returns
@@ -156,17 +175,28 @@ def corner_visibility(cameras, board: Checkerboard, rotations, translations, *,
         for p, (rotation, translation) in enumerate(zip(rotations, translations)):
             uv, z = project_points(camera, points @ np.asarray(rotation).T + translation)
             corners[c, p] = uv
-            visible[c, p] = bool(np.all(z > 0) and np.all(uv >= margin)
-                                 and np.all(uv[:, 0] <= width - 1 - margin)
-                                 and np.all(uv[:, 1] <= height - 1 - margin))
+            visible[c, p] = bool(
+                np.all(z > 0)
+                and np.all(uv >= margin)
+                and np.all(uv[:, 0] <= width - 1 - margin)
+                and np.all(uv[:, 1] <= height - 1 - margin)
+            )
     return corners, visible
 
 
-def board_poses(count: int, cameras, board: Checkerboard, *, seed: int,
-                tilt_degrees: tuple[float, float] = (10.0, 40.0),
-                roll_degrees: float = 20.0, distance: tuple[float, float] = (0.7, 1.1),
-                lateral: float = 0.3, min_views: int = 2, max_attempts: int = 10000
-                ) -> tuple[np.ndarray, np.ndarray]:
+def board_poses(
+    count: int,
+    cameras,
+    board: Checkerboard,
+    *,
+    seed: int,
+    tilt_degrees: tuple[float, float] = (10.0, 40.0),
+    roll_degrees: float = 20.0,
+    distance: tuple[float, float] = (0.7, 1.1),
+    lateral: float = 0.3,
+    min_views: int = 2,
+    max_attempts: int = 10000,
+) -> tuple[np.ndarray, np.ndarray]:
     """Random, well-conditioned board poses in front of the rig.
 
     Each pose tilts the board out of the image plane by an angle drawn from
@@ -188,27 +218,44 @@ def board_poses(count: int, cameras, board: Checkerboard, *, seed: int,
         if len(rotations) == count:
             break
         heading = rng.uniform(0.0, 2.0 * np.pi)
-        tilt = axis_angle_rotation((np.cos(heading), np.sin(heading), 0.0),
-                                   rng.uniform(*tilt_degrees))
-        rotation = tilt @ axis_angle_rotation((0.0, 0.0, 1.0),
-                                              rng.uniform(-roll_degrees, roll_degrees))
+        tilt = axis_angle_rotation(
+            (np.cos(heading), np.sin(heading), 0.0), rng.uniform(*tilt_degrees)
+        )
+        rotation = tilt @ axis_angle_rotation(
+            (0.0, 0.0, 1.0), rng.uniform(-roll_degrees, roll_degrees)
+        )
         depth = rng.uniform(*distance)
-        center = rig_center + np.array([rng.uniform(-lateral, lateral) * depth,
-                                        rng.uniform(-lateral, lateral) * depth * 0.75, depth])
+        center = rig_center + np.array(
+            [
+                rng.uniform(-lateral, lateral) * depth,
+                rng.uniform(-lateral, lateral) * depth * 0.75,
+                depth,
+            ]
+        )
         translation = center - rotation @ board.center
         _, visible = corner_visibility(cameras, board, rotation[None], translation[None])
         if visible.sum() >= min_views:
             rotations.append(rotation)
             translations.append(translation)
     if len(rotations) < count:
-        raise ValueError(f"found only {len(rotations)} of {count} board poses seen by "
-                         f"{min_views} cameras in {max_attempts} attempts")
+        raise ValueError(
+            f"found only {len(rotations)} of {count} board poses seen by "
+            f"{min_views} cameras in {max_attempts} attempts"
+        )
     return np.array(rotations), np.array(translations)
 
 
-def capture_checkerboard(cameras, board: Checkerboard, rotations, translations, *,
-                         samples: int = 8, noise: float = 1.0, backdrop: float = 0.45,
-                         seed: int | tuple[int, ...] = 0) -> CheckerboardCaptures:
+def capture_checkerboard(
+    cameras,
+    board: Checkerboard,
+    rotations,
+    translations,
+    *,
+    samples: int = 8,
+    noise: float = 1.0,
+    backdrop: float = 0.45,
+    seed: int | tuple[int, ...] = 0,
+) -> CheckerboardCaptures:
     """Render every camera at every board pose.
 
     Parameters
@@ -233,8 +280,13 @@ def capture_checkerboard(cameras, board: Checkerboard, rotations, translations, 
     """
     rotations = np.asarray(rotations, dtype=np.float64).reshape(-1, 3, 3)
     translations = np.asarray(translations, dtype=np.float64).reshape(-1, 3)
-    wall = Plane("backdrop", point=(0.0, 0.0, 3.0), normal=(0.0, 0.0, -1.0), u_axis=(1.0, 0.0, 0.0),
-                 texture=UniformTexture((backdrop,) * 3))
+    wall = Plane(
+        "backdrop",
+        point=(0.0, 0.0, 3.0),
+        normal=(0.0, 0.0, -1.0),
+        u_axis=(1.0, 0.0, 0.0),
+        texture=UniformTexture((backdrop,) * 3),
+    )
     sizes = {tuple(camera.size) for camera in cameras}
     if len(sizes) != 1:
         raise ValueError(f"all cameras need the same size, got {sorted(sizes)}")
@@ -247,6 +299,12 @@ def capture_checkerboard(cameras, board: Checkerboard, rotations, translations, 
             rng = np.random.default_rng([*np.atleast_1d(seed).tolist(), c, p])
             images[c, p] = quantize(grey + rng.normal(0.0, noise / 255.0, grey.shape))
     corners, visible = corner_visibility(cameras, board, rotations, translations)
-    return CheckerboardCaptures(cameras=list(cameras), board=board, rotations=rotations,
-                                translations=translations, images=images, corners=corners,
-                                visible=visible)
+    return CheckerboardCaptures(
+        cameras=list(cameras),
+        board=board,
+        rotations=rotations,
+        translations=translations,
+        images=images,
+        corners=corners,
+        visible=visible,
+    )

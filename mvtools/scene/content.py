@@ -14,8 +14,9 @@ frame and carry their texture along.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable, Protocol
+from typing import Protocol
 
 import numba
 import numpy as np
@@ -36,8 +37,11 @@ _MASK32 = np.uint64(0xFFFFFFFF)
 @numba.njit(cache=True, nogil=True)
 def _lattice_hash(i, j, seed):
     """A well-mixed 32-bit value per integer lattice point (murmur3 finaliser)."""
-    h = ((np.uint64(i & 0xFFFFFFFF) * np.uint64(0x8DA6B343))
-         ^ (np.uint64(j & 0xFFFFFFFF) * np.uint64(0xD8163841)) ^ seed) & _MASK32
+    h = (
+        (np.uint64(i & 0xFFFFFFFF) * np.uint64(0x8DA6B343))
+        ^ (np.uint64(j & 0xFFFFFFFF) * np.uint64(0xD8163841))
+        ^ seed
+    ) & _MASK32
     h ^= h >> np.uint64(16)
     h = (h * np.uint64(0x85EBCA6B)) & _MASK32
     h ^= h >> np.uint64(13)
@@ -79,8 +83,15 @@ def _fractal_kernel(s, t, seeds, scales, offsets, weights):
     return out
 
 
-def fractal_noise(s: np.ndarray, t: np.ndarray, *, seed: int, frequency: float = 1.0,
-                  octaves: int = 1, persistence: float = 0.5) -> np.ndarray:
+def fractal_noise(
+    s: np.ndarray,
+    t: np.ndarray,
+    *,
+    seed: int,
+    frequency: float = 1.0,
+    octaves: int = 1,
+    persistence: float = 0.5,
+) -> np.ndarray:
     """Three channels of smooth fractal value noise.
 
     Octave ``k`` is value noise on a lattice of spacing ``1 / (frequency * 2**k)``
@@ -107,9 +118,14 @@ def fractal_noise(s: np.ndarray, t: np.ndarray, *, seed: int, frequency: float =
     weights = persistence ** k.astype(np.float64)
     # Octave seeds mixed in Python (unbounded ints), then cut to 32 bits.
     seeds = np.array([((seed * 131 + j) * 0x9E3779B1) & 0xFFFFFFFF for j in k], dtype=np.uint64)
-    total = _fractal_kernel(np.ascontiguousarray(s, dtype=np.float64).reshape(-1),
-                            np.ascontiguousarray(t, dtype=np.float64).reshape(-1), seeds,
-                            frequency * 2.0 ** k, 0.37 * k, weights)
+    total = _fractal_kernel(
+        np.ascontiguousarray(s, dtype=np.float64).reshape(-1),
+        np.ascontiguousarray(t, dtype=np.float64).reshape(-1),
+        seeds,
+        frequency * 2.0**k,
+        0.37 * k,
+        weights,
+    )
     return total / weights.sum()
 
 
@@ -140,16 +156,23 @@ class NoiseTexture:
 
     def __post_init__(self):
         if self.pattern not in (None, "checker", "stripes", "bricks"):
-            raise ValueError(f"pattern must be None, 'checker', 'stripes' or 'bricks', "
-                             f"got {self.pattern!r}")
+            raise ValueError(
+                f"pattern must be None, 'checker', 'stripes' or 'bricks', got {self.pattern!r}"
+            )
         if self.octaves < 1 or self.frequency <= 0 or self.pattern_period <= 0:
             raise ValueError("octaves must be >= 1, frequency and pattern_period > 0")
 
     def __call__(self, s: np.ndarray, t: np.ndarray) -> np.ndarray:
         s = np.asarray(s, dtype=np.float64)
         t = np.asarray(t, dtype=np.float64)
-        noise = fractal_noise(s, t, seed=self.seed, frequency=self.frequency,
-                              octaves=self.octaves, persistence=self.persistence)
+        noise = fractal_noise(
+            s,
+            t,
+            seed=self.seed,
+            frequency=self.frequency,
+            octaves=self.octaves,
+            persistence=self.persistence,
+        )
         # A weighted mean of independent values concentrates near 0.5: stretch back.
         noise = np.clip(0.5 + 2.0 * (noise - 0.5), 0.0, 1.0)
         low, high = (np.asarray(c, dtype=np.float64) for c in self.colors)
@@ -188,6 +211,7 @@ class UniformTexture:
 
 # --------------------------------------------------------------------------- primitives
 
+
 class Primitive(Protocol):
     """What the renderer needs from a shape."""
 
@@ -202,7 +226,7 @@ class Primitive(Protocol):
     def surface(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Unit normals (N, 3) and texture coordinates (N, 2) of surface points (N, 3)."""
 
-    def translated(self, offset: np.ndarray) -> "Primitive":
+    def translated(self, offset: np.ndarray) -> Primitive:
         """The same primitive moved by ``offset`` (3,), texture moving along."""
 
 
@@ -325,7 +349,7 @@ class Sphere:
         oc = origins - self.center
         a = np.einsum("ij,ij->i", directions, directions)
         b = np.einsum("ij,ij->i", oc, directions)
-        c = np.einsum("ij,ij->i", oc, oc) - self.radius ** 2
+        c = np.einsum("ij,ij->i", oc, oc) - self.radius**2
         disc = b * b - a * c
         root = np.sqrt(np.maximum(disc, 0.0))
         near = (-b - root) / a
@@ -375,9 +399,10 @@ class Box:
         return np.where((t_enter <= t_exit) & (t > _T_MIN), t, np.inf)
 
     def surface(self, points):
-        gaps = np.concatenate([np.abs(points - self.minimum), np.abs(points - self.maximum)],
-                              axis=-1)
-        face = np.argmin(gaps, axis=-1)            # 0..2 min faces, 3..5 max faces
+        gaps = np.concatenate(
+            [np.abs(points - self.minimum), np.abs(points - self.maximum)], axis=-1
+        )
+        face = np.argmin(gaps, axis=-1)  # 0..2 min faces, 3..5 max faces
         axis = face % 3
         normal = np.zeros_like(points)
         normal[np.arange(len(points)), axis] = np.where(face < 3, -1.0, 1.0)
@@ -390,8 +415,9 @@ class Box:
         return normal, uv
 
     def translated(self, offset):
-        return dataclasses.replace(self, minimum=self.minimum + offset,
-                                   maximum=self.maximum + offset)
+        return dataclasses.replace(
+            self, minimum=self.minimum + offset, maximum=self.maximum + offset
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -423,20 +449,23 @@ class Cylinder:
         dx, dy, dz = directions[:, 0], directions[:, 1], directions[:, 2]
         a = dx * dx + dz * dz
         b = ox * dx + oz * dz
-        c = ox * ox + oz * oz - self.radius ** 2
+        c = ox * ox + oz * oz - self.radius**2
         disc = b * b - a * c
         # Vertical rays (a = 0) and horizontal ones (dy = 0) give inf/NaN here,
         # masked out below.
         with np.errstate(divide="ignore", invalid="ignore"):
             side = (-b - np.sqrt(np.maximum(disc, 0.0))) / a
             y = oy + side * dy
-            best = np.where((disc >= 0) & (a > 0) & (side > _T_MIN)
-                            & (y >= self.top_y) & (y <= self.bottom_y), side, np.inf)
+            best = np.where(
+                (disc >= 0) & (a > 0) & (side > _T_MIN) & (y >= self.top_y) & (y <= self.bottom_y),
+                side,
+                np.inf,
+            )
             for cap_y in (self.top_y, self.bottom_y):
                 t = (cap_y - oy) / dy
                 px = ox + t * dx
                 pz = oz + t * dz
-                ok = (dy != 0) & (t > _T_MIN) & (px * px + pz * pz <= self.radius ** 2)
+                ok = (dy != 0) & (t > _T_MIN) & (px * px + pz * pz <= self.radius**2)
                 best = np.minimum(best, np.where(ok, t, np.inf))
         return best
 
@@ -444,7 +473,9 @@ class Cylinder:
         rx = points[:, 0] - self.center[0]
         rz = points[:, 2] - self.center[2]
         radial = np.hypot(rx, rz)
-        cap_gap = np.minimum(np.abs(points[:, 1] - self.top_y), np.abs(points[:, 1] - self.bottom_y))
+        cap_gap = np.minimum(
+            np.abs(points[:, 1] - self.top_y), np.abs(points[:, 1] - self.bottom_y)
+        )
         on_cap = cap_gap < np.abs(radial - self.radius)
         top = np.abs(points[:, 1] - self.top_y) < np.abs(points[:, 1] - self.bottom_y)
         safe = np.where(radial > 0, radial, 1.0)
@@ -456,12 +487,16 @@ class Cylinder:
         return normal, np.where(on_cap[:, None], cap_uv, side_uv)
 
     def translated(self, offset):
-        return dataclasses.replace(self, center=self.center + offset,
-                                   top_y=self.top_y + offset[1],
-                                   bottom_y=self.bottom_y + offset[1])
+        return dataclasses.replace(
+            self,
+            center=self.center + offset,
+            top_y=self.top_y + offset[1],
+            bottom_y=self.bottom_y + offset[1],
+        )
 
 
 # --------------------------------------------------------------------------- scene
+
 
 @dataclass(frozen=True, eq=False)
 class Scene:
@@ -496,10 +531,11 @@ class Scene:
         if not 0 < self.znear < self.zfar:
             raise ValueError(f"need 0 < znear < zfar, got {self.znear}, {self.zfar}")
 
-    def at_frame(self, frame: int) -> "Scene":
+    def at_frame(self, frame: int) -> Scene:
         """The scene at ``frame``: every primitive moved by ``frame * velocity``."""
-        moved = tuple(p.translated(frame * p.velocity) if np.any(p.velocity) else p
-                      for p in self.primitives)
+        moved = tuple(
+            p.translated(frame * p.velocity) if np.any(p.velocity) else p for p in self.primitives
+        )
         return dataclasses.replace(self, primitives=moved)
 
     def shading(self, normals: np.ndarray) -> np.ndarray:
@@ -538,41 +574,103 @@ def default_scene(*, seed: int = 0) -> Scene:
     the textures only; geometry and depth bounds are fixed. ``znear = 2``,
     ``zfar = 13`` bound what the default rigs (:mod:`mvtools.scene.rigs`) see.
     """
+
     def texture(k, colors, **kw):
         return NoiseTexture(seed=seed * 1000 + k, colors=colors, **kw)
 
     panel_rotation = _rotation_y(-35.0)
     card_rotation = _rotation_y(20.0) @ _rotation_x(-30.0)
     primitives = (
-        Plane("background", point=(0.0, 0.0, 10.0), normal=(0.0, 0.0, -1.0), u_axis=(1.0, 0.0, 0.0),
-              texture=texture(1, ((0.70, 0.45, 0.35), (0.85, 0.80, 0.70)), frequency=0.7, octaves=6,
-                              pattern="bricks", pattern_period=0.8, pattern_strength=0.35)),
-        Plane("ground", point=(0.0, GROUND_Y, 0.0), normal=(0.0, -1.0, 0.0), u_axis=(1.0, 0.0, 0.0),
-              texture=texture(2, ((0.25, 0.40, 0.20), (0.60, 0.55, 0.35)), frequency=1.0, octaves=6,
-                              pattern="checker", pattern_period=1.0, pattern_strength=0.2)),
-        Rectangle("panel", center=(1.9, 0.0, 6.5),
-                  half_u=panel_rotation @ np.array([0.9, 0.0, 0.0]),
-                  half_v=panel_rotation @ np.array([0.0, 1.0, 0.0]),
-                  texture=texture(3, ((0.20, 0.30, 0.60), (0.70, 0.75, 0.90)), frequency=2.0,
-                                  octaves=5, pattern="stripes", pattern_period=0.15,
-                                  pattern_strength=0.3)),
-        Cylinder("cylinder", center=(-1.6, 0.0, 6.0), radius=0.4, top_y=-0.9, bottom_y=GROUND_Y,
-                 texture=texture(4, ((0.55, 0.20, 0.15), (0.95, 0.70, 0.30)), frequency=3.0,
-                                 octaves=5)),
-        Box("box", minimum=(0.3, 0.2, 4.3), maximum=(1.1, GROUND_Y, 5.1),
-            texture=texture(5, ((0.40, 0.30, 0.20), (0.90, 0.85, 0.60)), frequency=3.0, octaves=5,
-                            pattern="checker", pattern_period=0.2, pattern_strength=0.3),
-            velocity=(-0.05, 0.0, 0.0)),
-        Sphere("sphere", center=(-0.8, GROUND_Y - 0.45, 3.2), radius=0.45,
-               texture=texture(6, ((0.15, 0.45, 0.55), (0.90, 0.90, 0.50)), frequency=4.0,
-                               octaves=4),
-               velocity=(0.04, 0.0, 0.0)),
-        Rectangle("card", center=(0.15, -0.45, 2.6),
-                  half_u=card_rotation @ np.array([0.22, 0.0, 0.0]),
-                  half_v=card_rotation @ np.array([0.0, 0.15, 0.0]),
-                  texture=texture(7, ((0.85, 0.25, 0.30), (0.95, 0.90, 0.85)), frequency=8.0,
-                                  octaves=4, pattern="stripes", pattern_period=0.05,
-                                  pattern_strength=0.4),
-                  velocity=(0.0, 0.02, 0.0)),
+        Plane(
+            "background",
+            point=(0.0, 0.0, 10.0),
+            normal=(0.0, 0.0, -1.0),
+            u_axis=(1.0, 0.0, 0.0),
+            texture=texture(
+                1,
+                ((0.70, 0.45, 0.35), (0.85, 0.80, 0.70)),
+                frequency=0.7,
+                octaves=6,
+                pattern="bricks",
+                pattern_period=0.8,
+                pattern_strength=0.35,
+            ),
+        ),
+        Plane(
+            "ground",
+            point=(0.0, GROUND_Y, 0.0),
+            normal=(0.0, -1.0, 0.0),
+            u_axis=(1.0, 0.0, 0.0),
+            texture=texture(
+                2,
+                ((0.25, 0.40, 0.20), (0.60, 0.55, 0.35)),
+                frequency=1.0,
+                octaves=6,
+                pattern="checker",
+                pattern_period=1.0,
+                pattern_strength=0.2,
+            ),
+        ),
+        Rectangle(
+            "panel",
+            center=(1.9, 0.0, 6.5),
+            half_u=panel_rotation @ np.array([0.9, 0.0, 0.0]),
+            half_v=panel_rotation @ np.array([0.0, 1.0, 0.0]),
+            texture=texture(
+                3,
+                ((0.20, 0.30, 0.60), (0.70, 0.75, 0.90)),
+                frequency=2.0,
+                octaves=5,
+                pattern="stripes",
+                pattern_period=0.15,
+                pattern_strength=0.3,
+            ),
+        ),
+        Cylinder(
+            "cylinder",
+            center=(-1.6, 0.0, 6.0),
+            radius=0.4,
+            top_y=-0.9,
+            bottom_y=GROUND_Y,
+            texture=texture(4, ((0.55, 0.20, 0.15), (0.95, 0.70, 0.30)), frequency=3.0, octaves=5),
+        ),
+        Box(
+            "box",
+            minimum=(0.3, 0.2, 4.3),
+            maximum=(1.1, GROUND_Y, 5.1),
+            texture=texture(
+                5,
+                ((0.40, 0.30, 0.20), (0.90, 0.85, 0.60)),
+                frequency=3.0,
+                octaves=5,
+                pattern="checker",
+                pattern_period=0.2,
+                pattern_strength=0.3,
+            ),
+            velocity=(-0.05, 0.0, 0.0),
+        ),
+        Sphere(
+            "sphere",
+            center=(-0.8, GROUND_Y - 0.45, 3.2),
+            radius=0.45,
+            texture=texture(6, ((0.15, 0.45, 0.55), (0.90, 0.90, 0.50)), frequency=4.0, octaves=4),
+            velocity=(0.04, 0.0, 0.0),
+        ),
+        Rectangle(
+            "card",
+            center=(0.15, -0.45, 2.6),
+            half_u=card_rotation @ np.array([0.22, 0.0, 0.0]),
+            half_v=card_rotation @ np.array([0.0, 0.15, 0.0]),
+            texture=texture(
+                7,
+                ((0.85, 0.25, 0.30), (0.95, 0.90, 0.85)),
+                frequency=8.0,
+                octaves=4,
+                pattern="stripes",
+                pattern_period=0.05,
+                pattern_strength=0.4,
+            ),
+            velocity=(0.0, 0.02, 0.0),
+        ),
     )
     return Scene(primitives, light=(-0.4, -0.7, -0.6), ambient=0.55, znear=2.0, zfar=13.0)

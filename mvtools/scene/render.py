@@ -27,11 +27,14 @@ _BATCH = 1 << 18
 
 # --------------------------------------------------------------------------- lens model
 
+
 def _coefficients(distortion) -> np.ndarray:
     coefficients = np.asarray(distortion, dtype=np.float64).reshape(-1)
     if coefficients.size > 5:
-        raise ValueError(f"distortion has {coefficients.size} coefficients; at most 5 "
-                         "(k1, k2, p1, p2, k3) are supported")
+        raise ValueError(
+            f"distortion has {coefficients.size} coefficients; at most 5 "
+            "(k1, k2, p1, p2, k3) are supported"
+        )
     return np.pad(coefficients, (0, 5 - coefficients.size))
 
 
@@ -59,9 +62,14 @@ def distort_normalized(x: np.ndarray, y: np.ndarray, distortion) -> tuple[np.nda
     return xd, yd
 
 
-def undistort_normalized(xd: np.ndarray, yd: np.ndarray, distortion, *,
-                         tolerance: float = 1e-14,
-                         max_iterations: int = 50) -> tuple[np.ndarray, np.ndarray]:
+def undistort_normalized(
+    xd: np.ndarray,
+    yd: np.ndarray,
+    distortion,
+    *,
+    tolerance: float = 1e-14,
+    max_iterations: int = 50,
+) -> tuple[np.ndarray, np.ndarray]:
     """Invert :func:`distort_normalized` by Newton's method, to convergence.
 
     Parameters
@@ -93,7 +101,7 @@ def undistort_normalized(xd: np.ndarray, yd: np.ndarray, distortion, *,
     for _ in range(max_iterations):
         r2 = x * x + y * y
         radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
-        slope = k1 + r2 * (2.0 * k2 + 3.0 * k3 * r2)        # d radial / d r2
+        slope = k1 + r2 * (2.0 * k2 + 3.0 * k3 * r2)  # d radial / d r2
         ex = x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x) - xd
         ey = y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y - yd
         jxx = radial + 2.0 * x * x * slope + 2.0 * p1 * y + 6.0 * p2 * x
@@ -108,8 +116,10 @@ def undistort_normalized(xd: np.ndarray, yd: np.ndarray, distortion, *,
             break
         with np.errstate(divide="ignore", invalid="ignore"):
             x, y = x - (jyy * ex - jxy * ey) / det, y - (jxx * ey - jxy * ex) / det
-    raise ValueError(f"lens distortion {coefficients.tolist()} is not invertible over these "
-                     f"points (no solution before the fold within {max_iterations} Newton steps)")
+    raise ValueError(
+        f"lens distortion {coefficients.tolist()} is not invertible over these "
+        f"points (no solution before the fold within {max_iterations} Newton steps)"
+    )
 
 
 def project_points(camera: Camera, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -160,6 +170,7 @@ def pixel_rays(camera: Camera, u: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- rendering
+
 
 @dataclass(eq=False)
 class Rendering:
@@ -224,9 +235,15 @@ def _cast(scene: Scene, camera: Camera, u: np.ndarray, v: np.ndarray, *, batch: 
     return colors, depth, world_z, index
 
 
-def render(scene: Scene, camera: Camera, *, frame: int = 0, samples: int = 4,
-           adaptive_tolerance: float | None = None,
-           size: tuple[int, int] | None = None) -> Rendering:
+def render(
+    scene: Scene,
+    camera: Camera,
+    *,
+    frame: int = 0,
+    samples: int = 4,
+    adaptive_tolerance: float | None = None,
+    size: tuple[int, int] | None = None,
+) -> Rendering:
     """Ray-cast one view of ``scene`` at ``frame``.
 
     Parameters
@@ -270,8 +287,12 @@ def render(scene: Scene, camera: Camera, *, frame: int = 0, samples: int = 4,
         else:
             refine = _pixels_to_refine(scene, camera, width, height, adaptive_tolerance, color)
         color[refine] = _supersample(scene, camera, refine % width, refine // width, samples)
-    return Rendering(color=color.reshape(height, width, 3), depth=depth.reshape(shape),
-                     world_z=world_z.reshape(shape), object_index=index.reshape(shape))
+    return Rendering(
+        color=color.reshape(height, width, 3),
+        depth=depth.reshape(shape),
+        world_z=world_z.reshape(shape),
+        object_index=index.reshape(shape),
+    )
 
 
 def _image_size(camera: Camera, size) -> tuple[int, int]:
@@ -287,12 +308,16 @@ def _image_size(camera: Camera, size) -> tuple[int, int]:
 
 def _pixels_to_refine(scene, camera, width, height, tolerance, color) -> np.ndarray:
     """Flat indices of pixels whose corners disagree; fills ``color`` of the others."""
-    v, u = np.mgrid[0:height + 1, 0:width + 1].astype(np.float64) - 0.5
+    v, u = np.mgrid[0 : height + 1, 0 : width + 1].astype(np.float64) - 0.5
     corner_color, _, _, corner_index = _cast(scene, camera, u.ravel(), v.ravel())
     corner_color = corner_color.reshape(height + 1, width + 1, 3)
     corner_index = corner_index.reshape(height + 1, width + 1)
-    quads = [(slice(0, -1), slice(0, -1)), (slice(0, -1), slice(1, None)),
-             (slice(1, None), slice(0, -1)), (slice(1, None), slice(1, None))]
+    quads = [
+        (slice(0, -1), slice(0, -1)),
+        (slice(0, -1), slice(1, None)),
+        (slice(1, None), slice(0, -1)),
+        (slice(1, None), slice(1, None)),
+    ]
     colors = np.stack([corner_color[q] for q in quads])
     indices = np.stack([corner_index[q] for q in quads])
     spread = np.max(colors.max(axis=0) - colors.min(axis=0), axis=-1)
@@ -303,7 +328,7 @@ def _pixels_to_refine(scene, camera, width, height, tolerance, color) -> np.ndar
     refine = np.zeros_like(refine)
     for dy in range(3):
         for dx in range(3):
-            refine |= padded[dy:dy + height, dx:dx + width]
+            refine |= padded[dy : dy + height, dx : dx + width]
     color[:] = colors.mean(axis=0).reshape(-1, 3)
     return np.flatnonzero(refine.ravel())
 

@@ -6,8 +6,8 @@ Cameras follow :class:`mvtools.geometry.camera.Camera`: ``x_cam = R (X - t)``,
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Sequence
 
 import numpy as np
 
@@ -38,9 +38,17 @@ def _names(names, n: int) -> list[str]:
     return names
 
 
-def linear_rig(n: int, *, baseline: float, K: np.ndarray, size: tuple[int, int],
-               center=(0.0, 0.0, 0.0), distortion=None, depth_range=None,
-               names: Sequence[str] | None = None) -> list[Camera]:
+def linear_rig(
+    n: int,
+    *,
+    baseline: float,
+    K: np.ndarray,
+    size: tuple[int, int],
+    center=(0.0, 0.0, 0.0),
+    distortion=None,
+    depth_range=None,
+    names: Sequence[str] | None = None,
+) -> list[Camera]:
     """``n`` parallel cameras on the world x axis, like the MPEG 1D sequences.
 
     Parameters
@@ -82,9 +90,18 @@ def rotation_about_y(angle_degrees: float) -> np.ndarray:
     return np.stack([np.cross(down, forward), down, forward])
 
 
-def arc_rig(n: int, *, radius: float, angle_step: float, K: np.ndarray, size: tuple[int, int],
-            target=(0.0, 0.0, 4.5), distortion=None, depth_range=None,
-            names: Sequence[str] | None = None) -> list[Camera]:
+def arc_rig(
+    n: int,
+    *,
+    radius: float,
+    angle_step: float,
+    K: np.ndarray,
+    size: tuple[int, int],
+    target=(0.0, 0.0, 4.5),
+    distortion=None,
+    depth_range=None,
+    names: Sequence[str] | None = None,
+) -> list[Camera]:
     """``n`` cameras on a horizontal arc, all looking at ``target``.
 
     Camera ``i`` sits at angle ``a_i = (i - (n - 1) / 2) * angle_step`` (degrees) on
@@ -99,8 +116,9 @@ def arc_rig(n: int, *, radius: float, angle_step: float, K: np.ndarray, size: tu
         raise ValueError(f"need n >= 1 and radius > 0, got n={n}, radius={radius}")
     angles = (np.arange(n) - (n - 1) / 2.0) * angle_step
     a = np.radians(angles)
-    centers = (np.asarray(target, dtype=np.float64)
-               + radius * np.stack([np.sin(a), np.zeros(n), -np.cos(a)], axis=-1))
+    centers = np.asarray(target, dtype=np.float64) + radius * np.stack(
+        [np.sin(a), np.zeros(n), -np.cos(a)], axis=-1
+    )
     rotations = [rotation_about_y(-angle) for angle in angles]
     return _cameras(names, K, rotations, centers, size, distortion, depth_range)
 
@@ -109,11 +127,18 @@ def _cameras(names, K, rotations, centers, size, distortion, depth_range) -> lis
     n = len(centers)
     Ks = np.broadcast_to(np.asarray(K, dtype=np.float64), (n, 3, 3))
     distortions = _per_camera(distortion, n, "distortion")
-    return [Camera(name=name, K=Ks[i].copy(), R=rotations[i], t=centers[i],
-                   distortion=np.zeros(2) if distortions[i] is None else distortions[i],
-                   size=(int(size[0]), int(size[1])),
-                   depth_range=None if depth_range is None else tuple(map(float, depth_range)))
-            for i, name in enumerate(_names(names, n))]
+    return [
+        Camera(
+            name=name,
+            K=Ks[i].copy(),
+            R=rotations[i],
+            t=centers[i],
+            distortion=np.zeros(2) if distortions[i] is None else distortions[i],
+            size=(int(size[0]), int(size[1])),
+            depth_range=None if depth_range is None else tuple(map(float, depth_range)),
+        )
+        for i, name in enumerate(_names(names, n))
+    ]
 
 
 def axis_angle_rotation(axis, angle_degrees: float) -> np.ndarray:
@@ -130,10 +155,16 @@ def _small_rotation(rng: np.random.Generator, max_degrees: float) -> np.ndarray:
     return axis_angle_rotation(rng.normal(size=3), rng.uniform(0.0, max_degrees))
 
 
-def perturb_rig(cameras: Sequence[Camera], *, seed: int, rotation_degrees: float = 0.0,
-                principal_point_pixels: float = 0.0, focal_fraction: float = 0.0,
-                k1_range: tuple[float, float] | None = None,
-                k2_range: tuple[float, float] | None = None) -> list[Camera]:
+def perturb_rig(
+    cameras: Sequence[Camera],
+    *,
+    seed: int,
+    rotation_degrees: float = 0.0,
+    principal_point_pixels: float = 0.0,
+    focal_fraction: float = 0.0,
+    k1_range: tuple[float, float] | None = None,
+    k2_range: tuple[float, float] | None = None,
+) -> list[Camera]:
     """Imperfect copies of ``cameras``: the rig as built rather than as designed.
 
     Each camera is independently turned by up to ``rotation_degrees`` about a
@@ -157,7 +188,7 @@ def perturb_rig(cameras: Sequence[Camera], *, seed: int, rotation_degrees: float
         K[0, 2] += rng.uniform(-principal_point_pixels, principal_point_pixels)
         K[1, 2] += rng.uniform(-principal_point_pixels, principal_point_pixels)
         distortion = np.zeros(2)
-        distortion[:min(2, camera.distortion.size)] = camera.distortion[:2]
+        distortion[: min(2, camera.distortion.size)] = camera.distortion[:2]
         for k, bounds in enumerate((k1_range, k2_range)):
             if bounds is not None:
                 distortion[k] = rng.uniform(*bounds)
@@ -193,8 +224,11 @@ class ColorMismatch:
     def apply(self, rgb: np.ndarray) -> np.ndarray:
         """The mismatched image, shape (..., 3), from [0, 1] RGB of the same shape."""
         rgb = np.clip(np.asarray(rgb, dtype=np.float64), 0.0, 1.0)
-        return np.clip(np.asarray(self.gain) * rgb ** np.asarray(self.gamma)
-                       + np.asarray(self.offset), 0.0, 1.0)
+        return np.clip(
+            np.asarray(self.gain) * rgb ** np.asarray(self.gamma) + np.asarray(self.offset),
+            0.0,
+            1.0,
+        )
 
     def invert(self, rgb: np.ndarray) -> np.ndarray:
         """The ideal image from a mismatched one (exact where nothing was clipped)."""
@@ -203,17 +237,25 @@ class ColorMismatch:
         return base ** (1.0 / np.asarray(self.gamma))
 
 
-def random_color_mismatches(n: int, *, seed: int, gain: float = 0.1, offset: float = 0.03,
-                            gamma: float = 0.1, reference: int | None = None
-                            ) -> list[ColorMismatch]:
+def random_color_mismatches(
+    n: int,
+    *,
+    seed: int,
+    gain: float = 0.1,
+    offset: float = 0.03,
+    gamma: float = 0.1,
+    reference: int | None = None,
+) -> list[ColorMismatch]:
     """``n`` mismatches with gain in ``1 ± gain``, offset in ``± offset``, gamma in
     ``1 ± gamma`` per channel, uniformly; camera ``reference`` (if given) is left ideal."""
     rng = np.random.default_rng(seed)
     out = []
     for i in range(n):
-        draw = ColorMismatch(gain=1.0 + rng.uniform(-gain, gain, 3),
-                             offset=rng.uniform(-offset, offset, 3),
-                             gamma=1.0 + rng.uniform(-gamma, gamma, 3))
+        draw = ColorMismatch(
+            gain=1.0 + rng.uniform(-gain, gain, 3),
+            offset=rng.uniform(-offset, offset, 3),
+            gamma=1.0 + rng.uniform(-gamma, gamma, 3),
+        )
         out.append(ColorMismatch() if i == reference else draw)
     return out
 
@@ -225,8 +267,9 @@ def sample_intrinsics(width: int, height: int) -> np.ndarray:
     return intrinsics(fx=0.9375 * width, cx=(width - 1) / 2.0, cy=(height - 1) / 2.0)
 
 
-def sample_rigs(width: int = 256, height: int = 192, *, n: int = 5, depth_range=None,
-                seed: int = 0) -> dict[str, list[Camera]]:
+def sample_rigs(
+    width: int = 256, height: int = 192, *, n: int = 5, depth_range=None, seed: int = 0
+) -> dict[str, list[Camera]]:
     """The rigs of the sample data, all with :func:`sample_intrinsics`.
 
     - ``"line"``: :func:`linear_rig`, baseline 0.1 m, centred on the origin;
@@ -239,8 +282,22 @@ def sample_rigs(width: int = 256, height: int = 192, *, n: int = 5, depth_range=
     """
     K = sample_intrinsics(width, height)
     line = linear_rig(n, baseline=0.1, K=K, size=(width, height), depth_range=depth_range)
-    arc = arc_rig(n, radius=4.5, angle_step=5.0, target=(0.0, 0.0, 4.5), K=K,
-                  size=(width, height), depth_range=depth_range)
-    distorted = perturb_rig(line, seed=seed, rotation_degrees=0.5, principal_point_pixels=2.0,
-                            focal_fraction=0.01, k1_range=(-0.08, 0.08), k2_range=(-0.01, 0.01))
+    arc = arc_rig(
+        n,
+        radius=4.5,
+        angle_step=5.0,
+        target=(0.0, 0.0, 4.5),
+        K=K,
+        size=(width, height),
+        depth_range=depth_range,
+    )
+    distorted = perturb_rig(
+        line,
+        seed=seed,
+        rotation_degrees=0.5,
+        principal_point_pixels=2.0,
+        focal_fraction=0.01,
+        k1_range=(-0.08, 0.08),
+        k2_range=(-0.01, 0.01),
+    )
     return {"line": line, "arc": arc, "distorted": distorted}

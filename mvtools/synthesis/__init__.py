@@ -17,4 +17,4 @@ the camera axis, ``inf`` where a pixel holds nothing.
 
 from mvtools.synthesis.views import ReferenceView, SynthesisOptions, SynthesisResult, WarpedView
 
-__all__ = ["ReferenceView", "WarpedView", "SynthesisOptions", "SynthesisResult"]
+__all__ = ["ReferenceView", "SynthesisOptions", "SynthesisResult", "WarpedView"]

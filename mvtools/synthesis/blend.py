@@ -20,7 +20,7 @@ from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import inverse_depth_step
 from mvtools.synthesis.views import WarpedView
 
-__all__ = ["view_weights", "at_virtual_camera", "merge_views"]
+__all__ = ["at_virtual_camera", "merge_views", "view_weights"]
 
 
 def view_weights(virtual_camera: Camera, reference_cameras: Sequence[Camera]) -> np.ndarray:
@@ -67,16 +67,23 @@ def at_virtual_camera(virtual_camera: Camera, reference_cameras: Sequence[Camera
 def _distances(virtual_camera: Camera, reference_cameras: Sequence[Camera]) -> np.ndarray:
     if len(reference_cameras) == 0:
         raise ValueError("need at least one reference camera")
-    distances = np.array([np.linalg.norm(camera.t - virtual_camera.t)
-                          for camera in reference_cameras])
+    distances = np.array(
+        [np.linalg.norm(camera.t - virtual_camera.t) for camera in reference_cameras]
+    )
     if not np.all(np.isfinite(distances)):
         raise ValueError("camera centres must be finite")
     return distances
 
 
-def merge_views(warped: Sequence[WarpedView], weights, *, view_blending: bool = False,
-                depth_blend_difference: float = 5.0, depth_range: tuple[float, float],
-                overwrite: bool = False) -> WarpedView:
+def merge_views(
+    warped: Sequence[WarpedView],
+    weights,
+    *,
+    view_blending: bool = False,
+    depth_blend_difference: float = 5.0,
+    depth_range: tuple[float, float],
+    overwrite: bool = False,
+) -> WarpedView:
     """Merge N views warped into the same virtual camera.
 
     Blending (``view_blending=False``, VSRS ``ViewBlending 0``): at each pixel the
@@ -121,17 +128,23 @@ def merge_views(warped: Sequence[WarpedView], weights, *, view_blending: bool = 
         raise ValueError("need at least one warped view")
     weights = np.asarray(weights, dtype=np.float64)
     if weights.shape != (len(warped),) or not (np.all(weights >= 0) and weights.sum() > 0):
-        raise ValueError(f"need {len(warped)} non-negative weights, not all zero, "
-                         f"got {weights}")
+        raise ValueError(f"need {len(warped)} non-negative weights, not all zero, got {weights}")
     if not depth_blend_difference >= 0:
         raise ValueError(f"depth_blend_difference must be >= 0, got {depth_blend_difference}")
     shape = warped[0].z.shape
     for view in warped:
         if view.z.shape != shape or view.color.shape != shape + (3,):
-            raise ValueError(f"warped views differ in size: depth {view.z.shape}, colour "
-                             f"{view.color.shape}, first depth {shape}")
-    warped = [WarpedView(np.ascontiguousarray(view.color, dtype=np.float32),
-                         np.ascontiguousarray(view.z, dtype=np.float64)) for view in warped]
+            raise ValueError(
+                f"warped views differ in size: depth {view.z.shape}, colour "
+                f"{view.color.shape}, first depth {shape}"
+            )
+    warped = [
+        WarpedView(
+            np.ascontiguousarray(view.color, dtype=np.float32),
+            np.ascontiguousarray(view.z, dtype=np.float64),
+        )
+        for view in warped
+    ]
     if view_blending:
         priority = np.argsort(-weights, kind="stable")
         return _merge_by_priority([warped[i] for i in priority], overwrite)
@@ -141,27 +154,40 @@ def merge_views(warped: Sequence[WarpedView], weights, *, view_blending: bool = 
         return _blend(warped, weights, tolerance, overwrite)
     # What the weighted views show is the visible surface (a reference at the
     # virtual camera sees exactly that); the zero-weight views only fill the rest.
-    primary = _blend([view for view, w in zip(warped, weighted) if w], weights[weighted],
-                     tolerance, overwrite)
+    primary = _blend(
+        [view for view, w in zip(warped, weighted) if w], weights[weighted], tolerance, overwrite
+    )
     others = [view for view, w in zip(warped, weighted) if not w]
-    return _merge_by_priority([primary, _blend(others, np.ones(len(others)), tolerance,
-                                               overwrite)], overwrite)
+    return _merge_by_priority(
+        [primary, _blend(others, np.ones(len(others)), tolerance, overwrite)], overwrite
+    )
 
 
-def _blend(warped: list[WarpedView], weights: np.ndarray, tolerance: float,
-           overwrite: bool) -> WarpedView:
+def _blend(
+    warped: list[WarpedView], weights: np.ndarray, tolerance: float, overwrite: bool
+) -> WarpedView:
     # Safe into the first view: the kernel reads each row of every view before writing it.
     merged = warped[0] if overwrite else _empty_like(warped[0])
-    _blend_kernel(tuple(view.color for view in warped), tuple(view.z for view in warped),
-                  weights, tolerance, merged.color, merged.z)
+    _blend_kernel(
+        tuple(view.color for view in warped),
+        tuple(view.z for view in warped),
+        weights,
+        tolerance,
+        merged.color,
+        merged.z,
+    )
     return merged
 
 
 def _merge_by_priority(warped: list[WarpedView], overwrite: bool) -> WarpedView:
     # Safe into the first view (the first priority): the kernel starts from it.
     merged = warped[0] if overwrite else _empty_like(warped[0])
-    _priority_kernel(tuple(view.color for view in warped), tuple(view.z for view in warped),
-                     merged.color, merged.z)
+    _priority_kernel(
+        tuple(view.color for view in warped),
+        tuple(view.z for view in warped),
+        merged.color,
+        merged.z,
+    )
     return merged
 
 
@@ -172,6 +198,7 @@ def _empty_like(view: WarpedView) -> WarpedView:
 # Indexing the tuple of views with a variable is slow in numba: the kernels index it
 # once per row (copying the row of each view into a small buffer, or walking the
 # row view by view), not once per pixel.
+
 
 @numba.njit(cache=True, nogil=True, parallel=True)
 def _blend_kernel(colors, depths, weights, tolerance, color, z):

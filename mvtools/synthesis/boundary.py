@@ -35,8 +35,14 @@ from mvtools.synthesis.views import WarpedView
 __all__ = ["boundary_noise", "remove_boundary_noise", "soften_edges"]
 
 
-def boundary_noise(z: np.ndarray, *, width: int = 1, depth_difference: float = 5.0,
-                   depth_range: tuple[float, float], along_columns: bool = True) -> np.ndarray:
+def boundary_noise(
+    z: np.ndarray,
+    *,
+    width: int = 1,
+    depth_difference: float = 5.0,
+    depth_range: tuple[float, float],
+    along_columns: bool = True,
+) -> np.ndarray:
     """The fringe pixels that border the holes of one warped view on their background side.
 
     Every run of holes along a row (and along a column when ``along_columns``) has
@@ -68,14 +74,26 @@ def boundary_noise(z: np.ndarray, *, width: int = 1, depth_difference: float = 5
     if z.ndim != 2:
         raise ValueError(f"z must have shape (H, W), got {z.shape}")
     fringe = np.zeros(z.shape, dtype=bool)
-    _mark_fringe(z, fringe, True, width=width, depth_difference=depth_difference,
-                 depth_range=depth_range, along_columns=along_columns)
+    _mark_fringe(
+        z,
+        fringe,
+        True,
+        width=width,
+        depth_difference=depth_difference,
+        depth_range=depth_range,
+        along_columns=along_columns,
+    )
     return fringe
 
 
-def remove_boundary_noise(warped: Sequence[WarpedView], *, width: int = 1,
-                          depth_difference: float = 5.0, depth_range: tuple[float, float],
-                          along_columns: bool = True) -> list[WarpedView]:
+def remove_boundary_noise(
+    warped: Sequence[WarpedView],
+    *,
+    width: int = 1,
+    depth_difference: float = 5.0,
+    depth_range: tuple[float, float],
+    along_columns: bool = True,
+) -> list[WarpedView]:
     """Turn each view's background-side fringe (:func:`boundary_noise`) into holes.
 
     Merging the returned views fills the fringe of one view from the others that
@@ -98,14 +116,29 @@ def remove_boundary_noise(warped: Sequence[WarpedView], *, width: int = 1,
         if z.ndim != 2:
             raise ValueError(f"z must have shape (H, W), got {z.shape}")
         cleaned_z = z.copy()
-        _mark_fringe(z, cleaned_z, np.inf, width=width, depth_difference=depth_difference,
-                     depth_range=depth_range, along_columns=along_columns)
+        _mark_fringe(
+            z,
+            cleaned_z,
+            np.inf,
+            width=width,
+            depth_difference=depth_difference,
+            depth_range=depth_range,
+            along_columns=along_columns,
+        )
         cleaned.append(WarpedView(view.color, cleaned_z))
     return cleaned
 
 
-def _mark_fringe(z: np.ndarray, out: np.ndarray, value, *, width: int, depth_difference: float,
-                 depth_range: tuple[float, float], along_columns: bool) -> None:
+def _mark_fringe(
+    z: np.ndarray,
+    out: np.ndarray,
+    value,
+    *,
+    width: int,
+    depth_difference: float,
+    depth_range: tuple[float, float],
+    along_columns: bool,
+) -> None:
     """Set ``out`` to ``value`` on the fringe of the holes of ``z`` (read only)."""
     if width < 0 or int(width) != width:
         raise ValueError(f"width must be a non-negative integer, got {width}")
@@ -184,9 +217,14 @@ def _mark_along_columns(z, out, value, width, tolerance):
                         out[position, x] = value
 
 
-def soften_edges(color: np.ndarray, z: np.ndarray, *, strength: float = 0.2,
-                 depth_difference: float = 5.0,
-                 depth_range: tuple[float, float]) -> np.ndarray:
+def soften_edges(
+    color: np.ndarray,
+    z: np.ndarray,
+    *,
+    strength: float = 0.2,
+    depth_difference: float = 5.0,
+    depth_range: tuple[float, float],
+) -> np.ndarray:
     """Anti-alias object outlines on their background side.
 
     A pixel whose 4-neighbours include nearer ones (by at least ``depth_difference``

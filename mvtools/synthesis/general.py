@@ -94,15 +94,24 @@ class GeneralWarper:
         this one (default: its own).
     """
 
-    def __init__(self, reference_camera: Camera, virtual_camera: Camera, *,
-                 size: tuple[int, int], depth_type: int = 0, max_crack: int = 2,
-                 crack_tolerance: float = 1.0, z_buffers: ZBuffers | None = None):
+    def __init__(
+        self,
+        reference_camera: Camera,
+        virtual_camera: Camera,
+        *,
+        size: tuple[int, int],
+        depth_type: int = 0,
+        max_crack: int = 2,
+        crack_tolerance: float = 1.0,
+        z_buffers: ZBuffers | None = None,
+    ):
         width, height = (int(value) for value in size)
         if width <= 0 or height <= 0:
             raise ValueError(f"size must be a positive (width, height), got {size}")
         if depth_type not in (0, 1):
-            raise ValueError(f"depth_type must be 0 (along the camera axis) or 1 (world z), "
-                             f"got {depth_type!r}")
+            raise ValueError(
+                f"depth_type must be 0 (along the camera axis) or 1 (world z), got {depth_type!r}"
+            )
         if max_crack < 0:
             raise ValueError(f"max_crack must be >= 0, got {max_crack}")
         if not crack_tolerance >= 0:
@@ -132,8 +141,7 @@ class GeneralWarper:
 
         focal = 0.5 * (virt.fx + virt.fy)
         parallax_scale = abs(focal) * float(np.linalg.norm(virt.t - ref.t))
-        self._crack_tolerance = (crack_tolerance / parallax_scale if parallax_scale > 0
-                                 else np.inf)
+        self._crack_tolerance = crack_tolerance / parallax_scale if parallax_scale > 0 else np.inf
         self._z_buffers = ZBuffers() if z_buffers is None else z_buffers
 
     def warp(self, view: ReferenceView, *, precision: int, filter: str) -> WarpedView:
@@ -160,8 +168,10 @@ class GeneralWarper:
         color = np.ascontiguousarray(view.color, dtype=np.float32)
         z = np.ascontiguousarray(view.z, dtype=np.float64)
         if color.ndim != 3 or z.shape != color.shape[:2] or 0 in z.shape:
-            raise ValueError(f"reference colour must be (H, W, C) and depth (H, W) of the same "
-                             f"size, got {color.shape} and {z.shape}")
+            raise ValueError(
+                f"reference colour must be (H, W, C) and depth (H, W) of the same "
+                f"size, got {color.shape} and {z.shape}"
+            )
         if np.isnan(z).any():
             raise ValueError("reference depth must not be NaN")
         if self.depth_type == 0 and not (z > 0).all():
@@ -169,21 +179,46 @@ class GeneralWarper:
         width, height = self.size
         margin = self.max_crack
         buffers = self._z_buffers.get(height + 2 * margin, width + 2 * margin)
-        _forward_warp(z, self.depth_type == 1, self._world_z_step, self._world_z_origin,
-                      self._forward, self._forward_offset, margin, buffers)
+        _forward_warp(
+            z,
+            self.depth_type == 1,
+            self._world_z_step,
+            self._world_z_origin,
+            self._forward,
+            self._forward_offset,
+            margin,
+            buffers,
+        )
         nearness = buffers[0]
         if self.max_crack > 0:
             _close_cracks(nearness, self.max_crack, self._crack_tolerance)
         warped_z = np.empty((height, width))
         warped_color = np.empty((height, width, color.shape[2]), dtype=np.float32)
-        shift = int(precision).bit_length() - 1         # precision == 1 << shift
-        _fetch_backward(nearness, margin, color, self._backward, self._backward_offset, weights,
-                        first, shift, warped_z, warped_color)
+        shift = int(precision).bit_length() - 1  # precision == 1 << shift
+        _fetch_backward(
+            nearness,
+            margin,
+            color,
+            self._backward,
+            self._backward_offset,
+            weights,
+            first,
+            shift,
+            warped_z,
+            warped_color,
+        )
         return WarpedView(color=warped_color, z=warped_z)
 
 
-def warp_general(view: ReferenceView, virtual: Camera, *, size: tuple[int, int],
-                 precision: int, filter: str, depth_type: int = 0) -> WarpedView:
+def warp_general(
+    view: ReferenceView,
+    virtual: Camera,
+    *,
+    size: tuple[int, int],
+    precision: int,
+    filter: str,
+    depth_type: int = 0,
+) -> WarpedView:
     """Warp ``view`` into the camera ``virtual`` once (see :class:`GeneralWarper`)."""
     warper = GeneralWarper(view.camera, virtual, size=size, depth_type=depth_type)
     return warper.warp(view, precision=precision, filter=filter)
@@ -227,10 +262,12 @@ def _forward_warp(z, world_z, z_step, z_origin, forward, offset, margin, buffers
                 if not (depth_virtual > 0.0 and w_h > 0.0):
                     continue
                 scale = 1.0 / w_h
-                x = np.floor((depth * (forward[0, 0] * u + x_row) + offset[0]) * scale + 0.5
-                             + margin)
-                y = np.floor((depth * (forward[1, 0] * u + y_row) + offset[1]) * scale + 0.5
-                             + margin)
+                x = np.floor(
+                    (depth * (forward[0, 0] * u + x_row) + offset[0]) * scale + 0.5 + margin
+                )
+                y = np.floor(
+                    (depth * (forward[1, 0] * u + y_row) + offset[1]) * scale + 0.5 + margin
+                )
                 if not (0.0 <= x < width and 0.0 <= y < height):
                     continue
                 nearness = 1.0 / depth_virtual
@@ -290,8 +327,9 @@ def _close_cracks(nearness, max_crack, tolerance):
 
 
 @numba.njit(cache=True, nogil=True, parallel=True)
-def _fetch_backward(nearness, margin, color, backward, offset, weights, first, shift, warped_z,
-                    out):
+def _fetch_backward(
+    nearness, margin, color, backward, offset, weights, first, shift, warped_z, out
+):
     """Depth and colour of every virtual pixel from its inverse depth ``nearness``
     (with ``margin``); holes (z = inf, colour 0) where nothing landed or the point
     leaves the reference."""

@@ -46,9 +46,14 @@ _DIFFUSION_SWEEPS = 4
 _INPAINT_RADIUS = 3
 
 
-def fill_holes(color: np.ndarray, z: np.ndarray, holes: np.ndarray, *,
-               method: str = "background",
-               overwrite: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def fill_holes(
+    color: np.ndarray,
+    z: np.ndarray,
+    holes: np.ndarray,
+    *,
+    method: str = "background",
+    overwrite: bool = False,
+) -> tuple[np.ndarray, np.ndarray]:
     """Fill the ``holes`` of a merged view (module docstring for the methods).
 
     Parameters
@@ -71,15 +76,20 @@ def fill_holes(color: np.ndarray, z: np.ndarray, holes: np.ndarray, *,
         All ``inf`` (and colour 0) when every pixel is a hole.
     """
     if method not in HOLE_FILLING:
-        raise ValueError(f"method must be one of {', '.join(HOLE_FILLING)}, "
-                         f"got {method!r}")
+        raise ValueError(f"method must be one of {', '.join(HOLE_FILLING)}, got {method!r}")
     holes = np.ascontiguousarray(holes, dtype=bool)
     if z.shape != holes.shape or color.shape != holes.shape + (3,):
-        raise ValueError(f"color {color.shape}, z {z.shape} and holes {holes.shape} must "
-                         f"share (H, W) (color with 3 channels)")
+        raise ValueError(
+            f"color {color.shape}, z {z.shape} and holes {holes.shape} must "
+            f"share (H, W) (color with 3 channels)"
+        )
     if overwrite:
-        if not (color.dtype == np.float32 and z.dtype == np.float64
-                and color.flags.c_contiguous and z.flags.c_contiguous):
+        if not (
+            color.dtype == np.float32
+            and z.dtype == np.float64
+            and color.flags.c_contiguous
+            and z.flags.c_contiguous
+        ):
             raise ValueError("overwrite needs C-contiguous float32 colour and float64 depth")
         filled_color, filled_z = color, z
     else:
@@ -93,14 +103,16 @@ def fill_holes(color: np.ndarray, z: np.ndarray, holes: np.ndarray, *,
         return filled_color, filled_z
     _fill_from_background(filled_color, filled_z)
     if method == "background-diffusion":
-        _interpolate_from_background(filled_color, filled_z, holes, _BACKGROUND_TOLERANCE,
-                                     _DIFFUSION_SWEEPS)
+        _interpolate_from_background(
+            filled_color, filled_z, holes, _BACKGROUND_TOLERANCE, _DIFFUSION_SWEEPS
+        )
     elif method == "inpaint":
         # Telea reads only the pixels outside the mask.
         mask = holes.view(np.uint8)
         for channel in range(3):
-            filled_color[..., channel] = cv2.inpaint(filled_color[..., channel], mask,
-                                                     _INPAINT_RADIUS, cv2.INPAINT_TELEA)
+            filled_color[..., channel] = cv2.inpaint(
+                filled_color[..., channel], mask, _INPAINT_RADIUS, cv2.INPAINT_TELEA
+            )
     return filled_color, filled_z
 
 
@@ -174,7 +186,7 @@ def _interpolate_from_background(color, z, holes, tolerance, sweeps):
                 hole_y[n] = y
                 hole_x[n] = k
                 candidates_y[n, 0] = y
-                candidates_x[n, 0] = start - 1          # -1: none
+                candidates_x[n, 0] = start - 1  # -1: none
                 candidates_y[n, 1] = y
                 candidates_x[n, 1] = x if x < columns else -1
                 candidates_y[n, 2] = up[k]

@@ -53,8 +53,16 @@ from mvtools.geometry.depth import inverse_depth_step
 from mvtools.synthesis.sampling import tap_table
 from mvtools.synthesis.views import ReferenceView, WarpedView
 
-__all__ = ["OneDWarper", "warp_1d", "merge_1d", "TemporalDepthFilter",
-           "SURFACE_JUMP", "EDGE_FRACTION", "CLEAN_NOISE_WIDTH", "HOLE_COUNT_RADIUS"]
+__all__ = [
+    "CLEAN_NOISE_WIDTH",
+    "EDGE_FRACTION",
+    "HOLE_COUNT_RADIUS",
+    "SURFACE_JUMP",
+    "OneDWarper",
+    "TemporalDepthFilter",
+    "merge_1d",
+    "warp_1d",
+]
 
 SURFACE_JUMP = 1.0
 """Largest disparity step (pixels) between neighbouring pixels of one surface."""
@@ -70,7 +78,7 @@ HOLE_COUNT_RADIUS = 3
 
 # Finite stand-in for the depth of points at infinity (depth value 0 with Zfar = inf):
 # inf marks a hole in a WarpedView.
-_FARTHEST = 1e150     # products of two still finite
+_FARTHEST = 1e150  # products of two still finite
 
 
 class OneDWarper:
@@ -89,8 +97,14 @@ class OneDWarper:
         The left reference, whose ``fx`` serves both references (VSRS).
     """
 
-    def __init__(self, reference_camera: Camera, virtual_camera: Camera, *,
-                 size: tuple[int, int], left_camera: Camera):
+    def __init__(
+        self,
+        reference_camera: Camera,
+        virtual_camera: Camera,
+        *,
+        size: tuple[int, int],
+        left_camera: Camera,
+    ):
         width, height = (int(value) for value in size)
         if width <= 0 or height <= 0:
             raise ValueError(f"size must be positive, got {size}")
@@ -103,9 +117,18 @@ class OneDWarper:
         if not (np.isfinite(self.scale) and np.isfinite(self.offset)):
             raise ValueError("camera parameters must be finite")
 
-    def warp(self, view: ReferenceView, *, precision: int = 2, filter: str = "bicubic",
-             splatting: int = 2, boundary_growth: int = 40, warp_enhancement: bool = True,
-             clean_noise: bool = True, out: WarpedView | None = None) -> WarpedView:
+    def warp(
+        self,
+        view: ReferenceView,
+        *,
+        precision: int = 2,
+        filter: str = "bicubic",
+        splatting: int = 2,
+        boundary_growth: int = 40,
+        warp_enhancement: bool = True,
+        clean_noise: bool = True,
+        out: WarpedView | None = None,
+    ) -> WarpedView:
         """Forward-warp one reference view along its rows.
 
         Parameters
@@ -147,19 +170,32 @@ class OneDWarper:
         z = np.ascontiguousarray(view.z, dtype=np.float64)
         color = np.ascontiguousarray(view.color, dtype=np.float32)
         if z.ndim != 2 or z.shape[0] != height or color.shape != z.shape + (3,):
-            raise ValueError(f"reference colour {color.shape} and depth {z.shape} must be "
-                             f"(H, W, 3) and (H, W) with H = {height}")
+            raise ValueError(
+                f"reference colour {color.shape} and depth {z.shape} must be "
+                f"(H, W, 3) and (H, W) with H = {height}"
+            )
         z_min, z_max = z.min(), z.max()
         if not z_min > 0:
             raise ValueError("reference depths must be positive (and not NaN)")
-        edge_jump = max(SURFACE_JUMP,
-                        EDGE_FRACTION * abs(self.scale) * (1.0 / z_min - 1.0 / z_max))
-        taps = _six_taps(filter, precision)     # checks precision and filter
+        edge_jump = max(SURFACE_JUMP, EDGE_FRACTION * abs(self.scale) * (1.0 / z_min - 1.0 / z_max))
+        taps = _six_taps(filter, precision)  # checks precision and filter
         out = _output(out, (height, width))
-        shift = int(precision).bit_length() - 1     # precision == 1 << shift
-        _warp_rows(color, z, self.scale, self.offset, shift, taps,
-                   int(splatting), int(boundary_growth), edge_jump, bool(clean_noise),
-                   bool(warp_enhancement), out.color, out.z)
+        shift = int(precision).bit_length() - 1  # precision == 1 << shift
+        _warp_rows(
+            color,
+            z,
+            self.scale,
+            self.offset,
+            shift,
+            taps,
+            int(splatting),
+            int(boundary_growth),
+            edge_jump,
+            bool(clean_noise),
+            bool(warp_enhancement),
+            out.color,
+            out.z,
+        )
         return out
 
 
@@ -167,12 +203,18 @@ def _six_taps(filter: str, precision: int) -> np.ndarray:
     """:func:`mvtools.synthesis.sampling.tap_table` padded to the offsets -2 .. 3."""
     weights, first = tap_table(filter, precision)
     six = np.zeros((precision, 6), dtype=np.float32)
-    six[:, first + 2:first + 2 + weights.shape[1]] = weights
+    six[:, first + 2 : first + 2 + weights.shape[1]] = weights
     return six
 
 
-def warp_1d(view: ReferenceView, virtual_camera: Camera, *, left_camera: Camera,
-            size: tuple[int, int], **options) -> WarpedView:
+def warp_1d(
+    view: ReferenceView,
+    virtual_camera: Camera,
+    *,
+    left_camera: Camera,
+    size: tuple[int, int],
+    **options,
+) -> WarpedView:
     """One-shot :meth:`OneDWarper.warp` of ``view`` into ``virtual_camera``.
 
     ``options`` are those of :meth:`OneDWarper.warp`.
@@ -211,14 +253,27 @@ def _draw_half(x, u_middle, u_end, rate, inv_middle, inv_end, nearness, position
 
 
 @numba.njit(cache=True, nogil=True, parallel=True, error_model="numpy")
-def _warp_rows(color, z, scale, offset, shift, taps, splatting, growth, edge_jump,
-               clean_noise, warp_enhancement, out_color, out_z):
+def _warp_rows(
+    color,
+    z,
+    scale,
+    offset,
+    shift,
+    taps,
+    splatting,
+    growth,
+    edge_jump,
+    clean_noise,
+    warp_enhancement,
+    out_color,
+    out_z,
+):
     height, width = z.shape
     out_width = out_z.shape[1]
     for y in numba.prange(height):
         depth_row = z[y]
         inverse = np.empty(width)
-        u = np.empty(width)     # virtual position of each reference pixel
+        u = np.empty(width)  # virtual position of each reference pixel
         for x in range(width):
             inv = 1.0 / depth_row[x]
             inverse[x] = inv
@@ -251,31 +306,51 @@ def _warp_rows(color, z, scale, offset, shift, taps, splatting, growth, edge_jum
                     else:
                         for k in range(x + 1, min(x + 1 + CLEAN_NOISE_WIDTH, width)):
                             skip[k] = True
-        edges[count] = 2 * width + growth + 2     # sentinel: no edge comes near
+        edges[count] = 2 * width + growth + 2  # sentinel: no edge comes near
 
         nearness = np.full(out_width, -1.0)
         position = np.empty(out_width)
-        following = 0       # index in edges of the first edge at or after x
+        following = 0  # index in edges of the first edge at or after x
         for x in range(width):
             while edges[following] < x:
                 following += 1
             if skip[x]:
                 continue
             inv = inverse[x]
-            if splatting == 1 or (splatting == 2 and (
+            if splatting == 1 or (
+                splatting == 2
+                and (
                     edges[following] - x <= growth
-                    or (following > 0 and x - edges[following - 1] <= growth + 1))):
+                    or (following > 0 and x - edges[following - 1] <= growth + 1)
+                )
+            ):
                 # The footprint reaches halfway to the neighbours of its surface.
                 left = x > 0 and jump[x - 1] <= SURFACE_JUMP and not skip[x - 1]
                 right = jump[x] <= SURFACE_JUMP and not skip[x + 1]
                 if left:
-                    _draw_half(x, u[x], 0.5 * (u[x - 1] + u[x]), rate[x - 1], inv,
-                               0.5 * (inverse[x - 1] + inv), nearness, position)
+                    _draw_half(
+                        x,
+                        u[x],
+                        0.5 * (u[x - 1] + u[x]),
+                        rate[x - 1],
+                        inv,
+                        0.5 * (inverse[x - 1] + inv),
+                        nearness,
+                        position,
+                    )
                 else:
                     _draw_half(x, u[x], u[x] - 0.5, 1.0, inv, inv, nearness, position)
                 if right:
-                    _draw_half(x, u[x], 0.5 * (u[x] + u[x + 1]), rate[x], inv,
-                               0.5 * (inv + inverse[x + 1]), nearness, position)
+                    _draw_half(
+                        x,
+                        u[x],
+                        0.5 * (u[x] + u[x + 1]),
+                        rate[x],
+                        inv,
+                        0.5 * (inv + inverse[x + 1]),
+                        nearness,
+                        position,
+                    )
                 else:
                     _draw_half(x, u[x], u[x] + 0.5, 1.0, inv, inv, nearness, position)
             else:
@@ -299,7 +374,7 @@ def _warp_rows(color, z, scale, offset, shift, taps, splatting, growth, edge_jum
         warped = out_color[y]
         phases = np.empty((1 << shift, 3 * width), dtype=np.float32)
         _upsample_row(color[y], taps, phases)
-        for v in range(out_width):      # apart, so that it vectorises
+        for v in range(out_width):  # apart, so that it vectorises
             depth[v] = 1.0 / nearness[v]
         for v in range(out_width):
             if nearness[v] <= 0.0:
@@ -328,16 +403,20 @@ def _find_cracks(nearness, scale, cracks):
     decision. Returns their number.
     """
     count = 0
-    before = nearness[:-2]      # slices indexed from 0 keep the loop branch-light
+    before = nearness[:-2]  # slices indexed from 0 keep the loop branch-light
     after = nearness[2:]
     middle = nearness[1:-1]
     for k in range(middle.size):
         near_left = before[k]
         near_right = after[k]
-        surface = (near_left >= 0.0) & (near_right >= 0.0) & (
-            scale * abs(near_left - near_right) <= SURFACE_JUMP)
+        surface = (
+            (near_left >= 0.0)
+            & (near_right >= 0.0)
+            & (scale * abs(near_left - near_right) <= SURFACE_JUMP)
+        )
         behind = (middle[k] < 0.0) | (
-            scale * (0.5 * (near_left + near_right) - middle[k]) > SURFACE_JUMP)
+            scale * (0.5 * (near_left + near_right) - middle[k]) > SURFACE_JUMP
+        )
         if surface & behind:
             cracks[count] = k + 1
             count += 1
@@ -366,16 +445,17 @@ def _upsample_row(row, weights, phases):
         w0, w1, w2, w3, w4, w5 = weights[phase]
         out = phases[phase]
         if count > 0:
-            t0 = flat[start - 6:]
-            t1 = flat[start - 3:]
+            t0 = flat[start - 6 :]
+            t1 = flat[start - 3 :]
             t2 = flat[start:]
-            t3 = flat[start + 3:]
-            t4 = flat[start + 6:]
-            t5 = flat[start + 9:]
+            t3 = flat[start + 3 :]
+            t4 = flat[start + 6 :]
+            t5 = flat[start + 9 :]
             inner = out[start:]
             for m in range(count):
-                inner[m] = (w0 * t0[m] + w1 * t1[m] + w2 * t2[m] + w3 * t3[m] + w4 * t4[m]
-                            + w5 * t5[m])
+                inner[m] = (
+                    w0 * t0[m] + w1 * t1[m] + w2 * t2[m] + w3 * t3[m] + w4 * t4[m] + w5 * t5[m]
+                )
         for i in range(width):
             if lowest <= i < highest:
                 continue
@@ -392,16 +472,24 @@ def _fetch(phases, x, shift, out, column):
     (:func:`_upsample_row`), ``x`` rounded half up to 1/``precision`` and clamped,
     ``precision = 1 << shift`` (as in :func:`mvtools.synthesis.sampling.sample_pixel`)."""
     width = phases.shape[1] // 3
-    k = int(min(max(x, 0.0), width - 1.0) * (1 << shift) + 0.5)   # >= 0: truncation floors
+    k = int(min(max(x, 0.0), width - 1.0) * (1 << shift) + 0.5)  # >= 0: truncation floors
     start = 3 * (k >> shift)
     phase = k & ((1 << shift) - 1)
     for c in range(3):
         out[column, c] = phases[phase, start + c]
 
 
-def merge_1d(left: WarpedView, right: WarpedView, *, weights: tuple[float, float],
-             merging: int = 2, depth_threshold: float = 75, hole_count_threshold: float = 30,
-             depth_range: tuple[float, float], out: WarpedView | None = None) -> WarpedView:
+def merge_1d(
+    left: WarpedView,
+    right: WarpedView,
+    *,
+    weights: tuple[float, float],
+    merging: int = 2,
+    depth_threshold: float = 75,
+    hole_count_threshold: float = 30,
+    depth_range: tuple[float, float],
+    out: WarpedView | None = None,
+) -> WarpedView:
     """Merge the left and right views warped in 1D mode (``MergingOption``).
 
     Where only one view holds a pixel it is taken; where both do:
@@ -447,23 +535,42 @@ def merge_1d(left: WarpedView, right: WarpedView, *, weights: tuple[float, float
     shape = left.z.shape
     for view in (left, right):
         if view.z.shape != shape or view.color.shape != shape + (3,):
-            raise ValueError(f"warped views differ in size: depth {view.z.shape}, colour "
-                             f"{view.color.shape}, left depth {shape}")
+            raise ValueError(
+                f"warped views differ in size: depth {view.z.shape}, colour "
+                f"{view.color.shape}, left depth {shape}"
+            )
     tolerance = depth_threshold * inverse_depth_step(depth_range)
     if merging == 2:
         window = (2 * HOLE_COUNT_RADIUS + 1,) * 2
-        counts = [cv2.boxFilter(view.holes.view(np.uint8), -1, window, normalize=False,
-                                borderType=cv2.BORDER_CONSTANT) for view in (left, right)]
+        counts = [
+            cv2.boxFilter(
+                view.holes.view(np.uint8),
+                -1,
+                window,
+                normalize=False,
+                borderType=cv2.BORDER_CONSTANT,
+            )
+            for view in (left, right)
+        ]
     else:
-        counts = [np.zeros((1, 1), dtype=np.uint8)] * 2      # not read
+        counts = [np.zeros((1, 1), dtype=np.uint8)] * 2  # not read
     weights = weights / weights.sum()
     out = _output(out, shape)
-    _merge_rows(np.ascontiguousarray(left.color, dtype=np.float32),
-                np.ascontiguousarray(left.z, dtype=np.float64),
-                np.ascontiguousarray(right.color, dtype=np.float32),
-                np.ascontiguousarray(right.z, dtype=np.float64),
-                counts[0], counts[1], weights[0], weights[1], merging, tolerance,
-                float(hole_count_threshold), out.color, out.z)
+    _merge_rows(
+        np.ascontiguousarray(left.color, dtype=np.float32),
+        np.ascontiguousarray(left.z, dtype=np.float64),
+        np.ascontiguousarray(right.color, dtype=np.float32),
+        np.ascontiguousarray(right.z, dtype=np.float64),
+        counts[0],
+        counts[1],
+        weights[0],
+        weights[1],
+        merging,
+        tolerance,
+        float(hole_count_threshold),
+        out.color,
+        out.z,
+    )
     return out
 
 
@@ -471,33 +578,48 @@ def _output(out: WarpedView | None, shape: tuple[int, int]) -> WarpedView:
     """``out`` checked for ``shape`` (H, W), or new arrays."""
     if out is None:
         return WarpedView(np.empty(shape + (3,), dtype=np.float32), np.empty(shape))
-    if (out.color.shape != shape + (3,) or out.color.dtype != np.float32
-            or out.z.shape != shape or out.z.dtype != np.float64
-            or not (out.color.flags.c_contiguous and out.z.flags.c_contiguous)):
-        raise ValueError(f"out must hold C-contiguous float32 colour {shape + (3,)} and "
-                         f"float64 depth {shape}")
+    if (
+        out.color.shape != shape + (3,)
+        or out.color.dtype != np.float32
+        or out.z.shape != shape
+        or out.z.dtype != np.float64
+        or not (out.color.flags.c_contiguous and out.z.flags.c_contiguous)
+    ):
+        raise ValueError(
+            f"out must hold C-contiguous float32 colour {shape + (3,)} and float64 depth {shape}"
+        )
     return out
 
 
 @numba.njit(cache=True, nogil=True, parallel=True)
-def _merge_rows(color_left, z_left, color_right, z_right, holes_left, holes_right,
-                weight_left, weight_right, merging, tolerance, hole_threshold, color, z):
+def _merge_rows(
+    color_left,
+    z_left,
+    color_right,
+    z_right,
+    holes_left,
+    holes_right,
+    weight_left,
+    weight_right,
+    merging,
+    tolerance,
+    hole_threshold,
+    color,
+    z,
+):
     height, width = z.shape
     for y in numba.prange(height):
         for x in range(width):
             zl = z_left[y, x]
             zr = z_right[y, x]
-            take = 0    # 0 nothing, 1 left, 2 right, 3 weighted mean
+            take = 0  # 0 nothing, 1 left, 2 right, 3 weighted mean
             if zl < np.inf and zr < np.inf:
                 if merging == 1:
                     take = 3
                 # |1/zl - 1/zr| <= tolerance, without divisions.
                 elif merging == 2 and abs(zr - zl) <= tolerance * zl * zr:
                     difference = float(holes_left[y, x]) - float(holes_right[y, x])
-                    if abs(difference) < hole_threshold:
-                        take = 3
-                    else:
-                        take = 1 if difference <= 0.0 else 2
+                    take = 3 if abs(difference) < hole_threshold else 1 if difference <= 0.0 else 2
                 else:
                     take = 1 if zl <= zr else 2
             elif zl < np.inf:
@@ -516,8 +638,9 @@ def _merge_rows(color_left, z_left, color_right, z_right, holes_left, holes_righ
                 # The weighted mean of the inverse depths.
                 z[y, x] = zl * zr / (weight_left * zr + weight_right * zl)
                 for c in range(3):
-                    color[y, x, c] = (weight_left * color_left[y, x, c]
-                                      + weight_right * color_right[y, x, c])
+                    color[y, x, c] = (
+                        weight_left * color_left[y, x, c] + weight_right * color_right[y, x, c]
+                    )
             else:
                 z[y, x] = np.inf
                 for c in range(3):
@@ -548,17 +671,26 @@ class TemporalDepthFilter:
         Largest code value of the colours (255 for 8 bits): the threshold scales with it.
     """
 
-    def __init__(self, *, block: int = 4, sad_threshold: float = 100.0, weight: float = 0.75,
-                 spread: int = 2, max_value: float = 255.0):
+    def __init__(
+        self,
+        *,
+        block: int = 4,
+        sad_threshold: float = 100.0,
+        weight: float = 0.75,
+        spread: int = 2,
+        max_value: float = 255.0,
+    ):
         if block < 1 or spread < 0 or not 0 <= weight <= 1 or not max_value > 0:
-            raise ValueError(f"need block >= 1, spread >= 0, 0 <= weight <= 1, max_value > 0; "
-                             f"got {block}, {spread}, {weight}, {max_value}")
+            raise ValueError(
+                f"need block >= 1, spread >= 0, 0 <= weight <= 1, max_value > 0; "
+                f"got {block}, {spread}, {weight}, {max_value}"
+            )
         self.block = int(block)
-        self.mean_threshold = sad_threshold / block ** 2 * max_value / 255.0
+        self.mean_threshold = sad_threshold / block**2 * max_value / 255.0
         self.weight = float(weight)
         self.spread = int(spread)
-        self._intensity = None      # previous frame's channel mean, (H, W) float32
-        self._inverse = None        # previous frame's filtered inverse depth, (H, W)
+        self._intensity = None  # previous frame's channel mean, (H, W) float32
+        self._inverse = None  # previous frame's filtered inverse depth, (H, W)
 
     def reset(self) -> None:
         """Forget the previous frame."""
@@ -581,8 +713,7 @@ class TemporalDepthFilter:
         z = np.ascontiguousarray(z, dtype=np.float64)
         color = np.ascontiguousarray(color, dtype=np.float32)
         if z.ndim != 2 or color.shape != z.shape + (3,):
-            raise ValueError(f"need z (H, W) and color (H, W, 3), got {z.shape} and "
-                             f"{color.shape}")
+            raise ValueError(f"need z (H, W) and color (H, W, 3), got {z.shape} and {color.shape}")
         first = self._intensity is None or self._intensity.shape != z.shape
         if first:
             self._intensity = np.zeros(z.shape, dtype=np.float32)
@@ -590,13 +721,18 @@ class TemporalDepthFilter:
         change = _block_change(color, self._intensity, self.block)
         filtered = np.empty_like(z)
         if first:
-            _smooth_static(z, np.zeros(change.shape, dtype=np.bool_), self.block, 0.0,
-                           self._inverse, filtered)
+            _smooth_static(
+                z, np.zeros(change.shape, dtype=np.bool_), self.block, 0.0, self._inverse, filtered
+            )
         else:
             moving = (change >= self.mean_threshold).astype(np.uint8)
             if self.spread:
-                moving = cv2.dilate(moving, np.ones((2 * self.spread + 1,) * 2, np.uint8),
-                                    borderType=cv2.BORDER_CONSTANT, borderValue=0)
+                moving = cv2.dilate(
+                    moving,
+                    np.ones((2 * self.spread + 1,) * 2, np.uint8),
+                    borderType=cv2.BORDER_CONSTANT,
+                    borderValue=0,
+                )
             _smooth_static(z, moving == 0, self.block, self.weight, self._inverse, filtered)
         return filtered
 

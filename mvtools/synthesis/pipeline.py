@@ -61,9 +61,15 @@ class Synthesizer:
         ranges of the reference depth maps).
     """
 
-    def __init__(self, virtual_camera: Camera, reference_cameras: Sequence[Camera],
-                 options: SynthesisOptions, *, size: tuple[int, int],
-                 depth_range: tuple[float, float]):
+    def __init__(
+        self,
+        virtual_camera: Camera,
+        reference_cameras: Sequence[Camera],
+        options: SynthesisOptions,
+        *,
+        size: tuple[int, int],
+        depth_range: tuple[float, float],
+    ):
         cameras = list(reference_cameras)
         if not cameras:
             raise ValueError("need at least one reference camera")
@@ -78,18 +84,31 @@ class Synthesizer:
         if options.mode == "general":
             # The views are warped one after the other: one set of z-buffers serves all.
             z_buffers = ZBuffers()
-            self._warpers = [GeneralWarper(camera, virtual_camera, size=self.size,
-                                           depth_type=options.depth_type, z_buffers=z_buffers)
-                             for camera in used_cameras]
+            self._warpers = [
+                GeneralWarper(
+                    camera,
+                    virtual_camera,
+                    size=self.size,
+                    depth_type=options.depth_type,
+                    z_buffers=z_buffers,
+                )
+                for camera in used_cameras
+            ]
             self._temporal = None
         else:
             if len(used_cameras) > 2:
-                raise ValueError(f"1D mode takes one or two reference views, got "
-                                 f"{len(used_cameras)}")
-            self._warpers = [OneDWarper(camera, virtual_camera, size=self.size,
-                                        left_camera=cameras[0]) for camera in used_cameras]
-            self._temporal = ([TemporalDepthFilter() for _ in used_cameras]
-                              if options.temporal_improvement else None)
+                raise ValueError(
+                    f"1D mode takes one or two reference views, got {len(used_cameras)}"
+                )
+            self._warpers = [
+                OneDWarper(camera, virtual_camera, size=self.size, left_camera=cameras[0])
+                for camera in used_cameras
+            ]
+            self._temporal = (
+                [TemporalDepthFilter() for _ in used_cameras]
+                if options.temporal_improvement
+                else None
+            )
 
     @property
     def carries_state(self) -> bool:
@@ -111,8 +130,9 @@ class Synthesizer:
             As in :meth:`frame`.
         """
         if len(references) != self.reference_count:
-            raise ValueError(f"expected {self.reference_count} reference views, got "
-                             f"{len(references)}")
+            raise ValueError(
+                f"expected {self.reference_count} reference views, got {len(references)}"
+            )
         if self._temporal is None:
             return
         for index, i in enumerate(self._used):
@@ -134,8 +154,9 @@ class Synthesizer:
         SynthesisResult
         """
         if len(references) != self.reference_count:
-            raise ValueError(f"expected {self.reference_count} reference views, got "
-                             f"{len(references)}")
+            raise ValueError(
+                f"expected {self.reference_count} reference views, got {len(references)}"
+            )
         warped = [self._warp(index, references[i]) for index, i in enumerate(self._used)]
         holes = np.logical_and.reduce([view.holes for view in warped])
         options = self.options
@@ -145,9 +166,13 @@ class Synthesizer:
         # merged arrays filled in place.
         merged = self._merge(warped)
         del warped
-        color, z = fill_holes(np.ascontiguousarray(merged.color, dtype=np.float32),
-                              np.ascontiguousarray(merged.z, dtype=np.float64), merged.holes,
-                              method=options.hole_filling, overwrite=True)
+        color, z = fill_holes(
+            np.ascontiguousarray(merged.color, dtype=np.float32),
+            np.ascontiguousarray(merged.z, dtype=np.float64),
+            merged.holes,
+            method=options.hole_filling,
+            overwrite=True,
+        )
         # A reference at the virtual camera already shows its outlines as a camera does.
         if options.edge_softening and not self._reference_at_virtual:
             color = soften_edges(color, z, depth_range=self.depth_range)
@@ -156,31 +181,50 @@ class Synthesizer:
     def _warp(self, index: int, view: ReferenceView) -> WarpedView:
         options = self.options
         if options.mode == "general":
-            return self._warpers[index].warp(view, precision=options.precision,
-                                             filter=options.filter)
+            return self._warpers[index].warp(
+                view, precision=options.precision, filter=options.filter
+            )
         if options.depth_type == 1:
-            view = ReferenceView(view.camera, view.color,
-                                 _axis_depth(self._warpers[index].reference_camera, view.z))
+            view = ReferenceView(
+                view.camera, view.color, _axis_depth(self._warpers[index].reference_camera, view.z)
+            )
         if self._temporal is not None:
-            view = ReferenceView(view.camera, view.color,
-                                 self._temporal[index].apply(view.z, view.color))
+            view = ReferenceView(
+                view.camera, view.color, self._temporal[index].apply(view.z, view.color)
+            )
         return self._warpers[index].warp(
-            view, precision=options.precision, filter=options.filter,
-            splatting=options.splatting, boundary_growth=options.boundary_growth,
-            warp_enhancement=options.warp_enhancement, clean_noise=options.clean_noise)
+            view,
+            precision=options.precision,
+            filter=options.filter,
+            splatting=options.splatting,
+            boundary_growth=options.boundary_growth,
+            warp_enhancement=options.warp_enhancement,
+            clean_noise=options.clean_noise,
+        )
 
     def _merge(self, warped: list[WarpedView]) -> WarpedView:
         options = self.options
         if len(warped) == 1:
             return warped[0]
         if options.mode == "1d":
-            return merge_1d(warped[0], warped[1], weights=tuple(self.weights),
-                            merging=options.merging, depth_threshold=options.depth_threshold,
-                            hole_count_threshold=options.hole_count_threshold,
-                            depth_range=self.depth_range, out=warped[0])
-        return merge_views(warped, self.weights, view_blending=options.view_blending,
-                           depth_blend_difference=options.depth_blend_difference,
-                           depth_range=self.depth_range, overwrite=True)
+            return merge_1d(
+                warped[0],
+                warped[1],
+                weights=tuple(self.weights),
+                merging=options.merging,
+                depth_threshold=options.depth_threshold,
+                hole_count_threshold=options.hole_count_threshold,
+                depth_range=self.depth_range,
+                out=warped[0],
+            )
+        return merge_views(
+            warped,
+            self.weights,
+            view_blending=options.view_blending,
+            depth_blend_difference=options.depth_blend_difference,
+            depth_range=self.depth_range,
+            overwrite=True,
+        )
 
 
 def _axis_depth(camera: Camera, world_z: np.ndarray) -> np.ndarray:
@@ -197,8 +241,12 @@ def _distinct(cameras: list[Camera]) -> list[int]:
     """Indices of the first of each group of cameras at the same pose with the same K."""
     used: list[int] = []
     for i, camera in enumerate(cameras):
-        same = (np.array_equal(camera.K, cameras[j].K) and np.array_equal(camera.R, cameras[j].R)
-                and np.array_equal(camera.t, cameras[j].t) for j in used)
+        same = (
+            np.array_equal(camera.K, cameras[j].K)
+            and np.array_equal(camera.R, cameras[j].R)
+            and np.array_equal(camera.t, cameras[j].t)
+            for j in used
+        )
         if not any(same):
             used.append(i)
     return used

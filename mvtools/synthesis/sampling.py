@@ -40,7 +40,7 @@ import numpy as np
 
 from mvtools.synthesis.views import FILTERS, PRECISIONS
 
-__all__ = ["sample_image", "tap_table", "PRECISIONS"]
+__all__ = ["PRECISIONS", "sample_image", "tap_table"]
 
 
 def _keys_cubic(distance: np.ndarray) -> np.ndarray:
@@ -71,8 +71,9 @@ def tap_table(filter: str, precision: int) -> tuple[np.ndarray, int]:
     if filter not in FILTERS:
         raise ValueError(f"filter must be one of {', '.join(FILTERS)}, got {filter!r}")
     if precision not in PRECISIONS:
-        raise ValueError(f"precision must be one of {', '.join(map(str, PRECISIONS))}, "
-                         f"got {precision!r}")
+        raise ValueError(
+            f"precision must be one of {', '.join(map(str, PRECISIONS))}, got {precision!r}"
+        )
     phase = np.arange(precision, dtype=np.float64)[:, None] / precision
     if filter == "bilinear":
         first, weights = 0, np.hstack([1 - phase, phase])
@@ -86,9 +87,12 @@ def tap_table(filter: str, precision: int) -> tuple[np.ndarray, int]:
         following = np.array([0, 0, 0, 32, 0, 0], dtype=np.float64) / 32
         # Linear between integer, half-pel and next integer sample: H.264's quarter
         # positions (the averages) and, finer, the lines between them.
-        halves = 2 * phase      # 0 .. 2 in half pixels
-        weights = np.where(halves <= 1, (1 - halves) * integer + halves * half,
-                           (2 - halves) * half + (halves - 1) * following)
+        halves = 2 * phase  # 0 .. 2 in half pixels
+        weights = np.where(
+            halves <= 1,
+            (1 - halves) * integer + halves * half,
+            (2 - halves) * half + (halves - 1) * following,
+        )
     return weights.astype(np.float32), first
 
 
@@ -159,8 +163,9 @@ def sample_pixel(image, x, y, weights, first, shift, out, row, column):
 def _sample_grid(image, x, y, weights, first, shift, out):
     for row in numba.prange(x.shape[0]):
         for column in range(x.shape[1]):
-            sample_pixel(image, x[row, column], y[row, column], weights, first, shift,
-                         out, row, column)
+            sample_pixel(
+                image, x[row, column], y[row, column], weights, first, shift, out, row, column
+            )
 
 
 def sample_image(image, x, y, *, precision: int, filter: str) -> np.ndarray:
@@ -199,7 +204,7 @@ def sample_image(image, x, y, *, precision: int, filter: str) -> np.ndarray:
     has_undefined = undefined.any()
     if has_undefined:
         x, y = np.where(undefined, 0.0, x), np.where(undefined, 0.0, y)
-    shift = int(precision).bit_length() - 1             # precision == 1 << shift
+    shift = int(precision).bit_length() - 1  # precision == 1 << shift
     _sample_grid(np.ascontiguousarray(image3), x, y, weights, first, shift, out)
     if has_undefined:
         out[undefined] = np.nan

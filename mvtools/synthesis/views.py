@@ -8,7 +8,7 @@ import numpy as np
 
 from mvtools.geometry.camera import Camera
 
-FILTERS = ("bilinear", "bicubic", "avc6")          # VSRS Filter 0, 1, 2
+FILTERS = ("bilinear", "bicubic", "avc6")  # VSRS Filter 0, 1, 2
 # VSRS Precision: integer, half, quarter pixel; 8 and 16 are mvtools extensions.
 PRECISIONS = (1, 2, 4, 8, 16)
 HOLE_FILLING = ("background", "inpaint", "background-diffusion")  # IvsrsInpaint 1, 0, new
@@ -92,15 +92,18 @@ class SynthesisOptions:
         if self.mode not in ("general", "1d"):
             raise ValueError(f"mode must be 'general' or '1d', got {self.mode!r}")
         if self.precision not in PRECISIONS:
-            raise ValueError(f"precision must be one of {', '.join(map(str, PRECISIONS))}, "
-                             f"got {self.precision!r}")
+            raise ValueError(
+                f"precision must be one of {', '.join(map(str, PRECISIONS))}, "
+                f"got {self.precision!r}"
+            )
         if self.filter not in FILTERS:
             raise ValueError(f"filter must be one of {', '.join(FILTERS)}, got {self.filter!r}")
         if self.depth_type not in (0, 1):
             raise ValueError(f"depth_type must be 0 or 1, got {self.depth_type}")
         if self.hole_filling not in HOLE_FILLING:
-            raise ValueError(f"hole_filling must be one of {', '.join(HOLE_FILLING)}, "
-                             f"got {self.hole_filling!r}")
+            raise ValueError(
+                f"hole_filling must be one of {', '.join(HOLE_FILLING)}, got {self.hole_filling!r}"
+            )
 
 
 @dataclass(eq=False)

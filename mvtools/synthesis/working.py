@@ -12,9 +12,9 @@ from mvtools.color.space import downsample_chroma, rgb_to_yuv, upsample_chroma, 
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.projection import backproject, pixel_grid
 
-__all__ = ["to_working", "from_working", "world_z"]
+__all__ = ["from_working", "to_working", "world_z"]
 
-_STRIP_ROWS = 128       # even: a strip starts on a 4:2:0 chroma row
+_STRIP_ROWS = 128  # even: a strip starts on a 4:2:0 chroma row
 
 
 def world_z(camera: Camera, z: np.ndarray) -> np.ndarray:
@@ -44,7 +44,7 @@ def to_working(planes, *, color_space: int, bits: int) -> np.ndarray:
         return yuv_to_rgb(planes, bits=bits).astype(np.float32)
     luma, chroma = planes[0], planes[1:]
     rows, chroma_rows = luma.shape[0], chroma[0].shape[0]
-    step = 2 if chroma_rows == -(-rows // 2) and chroma_rows != rows else 1   # 4:2:0: 2
+    step = 2 if chroma_rows == -(-rows // 2) and chroma_rows != rows else 1  # 4:2:0: 2
     image = np.empty(luma.shape + (3,), dtype=np.float32)
     image[..., 0] = luma
     # Strips of rows, each upsampled with the chroma rows around it that its
@@ -54,17 +54,23 @@ def to_working(planes, *, color_space: int, bits: int) -> np.ndarray:
         bottom = min(top + _STRIP_ROWS, rows)
         first = max(top // step - 1, 0)
         last = min(-(-bottom // step) + 1, chroma_rows)
-        strip = upsample_chroma([luma[first * step:last * step],
-                                 *(np.asarray(plane[first:last], np.float32) for plane in chroma)])
+        strip = upsample_chroma(
+            [
+                luma[first * step : last * step],
+                *(np.asarray(plane[first:last], np.float32) for plane in chroma),
+            ]
+        )
         for channel in (1, 2):
-            image[top:bottom, :, channel] = strip[channel][top - first * step:bottom - first * step]
+            image[top:bottom, :, channel] = strip[channel][
+                top - first * step : bottom - first * step
+            ]
     return image
 
 
 def from_working(image: np.ndarray, *, color_space: int, bits: int) -> tuple[np.ndarray, ...]:
     """A working-space image (see :func:`to_working`) as YUV 4:2:0 planes of ``bits``
     bits (uint8 or uint16): chroma averaged over 2x2 blocks, rounded half up and clipped."""
-    max_value = 2 ** bits - 1
+    max_value = 2**bits - 1
     if color_space == 1:
         return rgb_to_yuv(np.clip(image / max_value, 0.0, 1.0), chroma="420", bits=bits)
     dtype = np.uint8 if bits == 8 else np.uint16

@@ -53,14 +53,17 @@ class Case:
 
 def copy_sample(*names: str, folder: str = "line") -> Callable[[Path], None]:
     """A ``files`` function copying files of ``sample_data/FOLDER`` into the working folder."""
+
     def files(target: Path) -> None:
         for name in names:
             shutil.copy(SAMPLE / folder / name, target / name)
+
     return files
 
 
 def write(name: str, content: str | bytes) -> Callable[[Path], None]:
     """A ``files`` function writing one file."""
+
     def files(target: Path) -> None:
         path = target / name
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -68,18 +71,26 @@ def write(name: str, content: str | bytes) -> Callable[[Path], None]:
             path.write_bytes(content)
         else:
             path.write_text(content)
+
     return files
 
 
 def together(*functions: Callable[[Path], None]) -> Callable[[Path], None]:
     """A ``files`` function doing each of ``functions``."""
+
     def files(target: Path) -> None:
         for function in functions:
             function(target)
+
     return files
 
 
 #: The sample line rig's synthesis inputs: configuration, cameras, views 1 and 3.
-LINE_SYNTHESIS = copy_sample("synthesize_cam2.cfg", "cameras.txt",
-                             "v1_texture_256x192_yuv420p.yuv", "v3_texture_256x192_yuv420p.yuv",
-                             "v1_depth_256x192_yuv420p.yuv", "v3_depth_256x192_yuv420p.yuv")
+LINE_SYNTHESIS = copy_sample(
+    "synthesize_cam2.cfg",
+    "cameras.txt",
+    "v1_texture_256x192_yuv420p.yuv",
+    "v3_texture_256x192_yuv420p.yuv",
+    "v1_depth_256x192_yuv420p.yuv",
+    "v3_depth_256x192_yuv420p.yuv",
+)
