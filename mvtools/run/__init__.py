@@ -1,0 +1,32 @@
+"""Run functions: one per program, the Python API of the programs.
+
+Each takes opened readers and writers (or paths) and an options dataclass, works over
+a frame range frame by frame (:func:`mvtools.run.stream.stream_frames`) and reports
+progress through a callback; it is also the unit of work a Dask task runs. The
+programs of :mod:`mvtools.cli` parse their arguments and configuration files, call
+one of these and print.
+
+Names are imported from their modules on first use, so ``import mvtools.run`` is cheap.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+#: Each exported name and the module of this package that defines it.
+_EXPORTS: dict[str, str] = {
+    "stream_frames": "stream",
+    "ProgressCallback": "stream",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+
+
+def __dir__() -> list[str]:
+    return __all__
