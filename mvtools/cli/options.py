@@ -19,6 +19,7 @@ from mvtools import __version__
 from mvtools.errors import MvtoolsError
 from mvtools.io.abort import abort
 from mvtools.io.guard import file_guard
+from mvtools.kernels import announce_compilation
 from mvtools.params import Kind, param_specs
 
 LOG = logging.getLogger("mvtools")
@@ -78,6 +79,7 @@ def program(function):
     @functools.wraps(function)
     def wrapper(ctx: click.Context, verbose: int, quiet: int, **kwargs):
         _set_log_level(ctx, verbose, quiet)
+        announce_compilation()
         LOG.debug(
             "mvtools %s, Python %s, numba threading layers %s, OMP_WAIT_POLICY %s",
             __version__,
