@@ -38,6 +38,7 @@ from mvtools.cli.estimate_depth import command as estimate_depth_command
 from mvtools.color.space import rgb_to_yuv
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import facing_camera
+from mvtools.geometry.lens import pixel_rays, project_points
 from mvtools.io.cameras import get_camera, read_cameras, write_cameras
 from mvtools.io.config import load_params, read_config, write_config
 from mvtools.io.yuv import YuvFormat, frame_from_luma, read_frame, write_video
@@ -47,8 +48,6 @@ from mvtools.scene import (
     Plane,
     Rectangle,
     Scene,
-    pixel_rays,
-    project_points,
     render,
 )
 

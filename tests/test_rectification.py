@@ -18,6 +18,7 @@ from shared_data import shared_data
 from mvtools.errors import DataError
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import depth_to_z
+from mvtools.geometry.lens import pixel_rays, project_points
 from mvtools.geometry.projection import project
 from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import read_frame
@@ -29,7 +30,7 @@ from mvtools.rectification import (
     remap_plane,
     undistortion,
 )
-from mvtools.scene import default_scene, pixel_rays, project_points, render, rotation_about_y
+from mvtools.scene import default_scene, render, rotation_about_y
 
 SAMPLE = Path(__file__).resolve().parent.parent / "sample_data"
 TRUTH = json.loads((SAMPLE / "truth.json").read_text())

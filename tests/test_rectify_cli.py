@@ -20,11 +20,11 @@ from shared_data import shared_data
 
 from mvtools.cli import rectify
 from mvtools.cli.main import cli
+from mvtools.geometry.lens import project_points
 from mvtools.geometry.projection import backproject, project
 from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import YuvFormat, open_video
 from mvtools.metrics import psnr
-from mvtools.scene.render import project_points
 
 SAMPLE = Path(__file__).resolve().parent.parent / "sample_data"
 DISTORTED = SAMPLE / "distorted"
@@ -293,7 +293,7 @@ def test_undistort_keeps_each_camera_where_it_looks(tmp_path):
     np.testing.assert_array_equal(result["cam4"].distortion, 0.0)
     # The same ray in both pictures shows the same colour: an output pixel's ray, found
     # through the undistorted camera, meets the source picture where the lens model
-    # (mvtools.scene.render, the renderer's own) puts it.
+    # (mvtools.geometry.lens, the renderer's own) puts it.
     with open_video(DISTORTED / TEXTURE.format(4), YuvFormat(256, 192)) as video:
         before = np.asarray(video.read(0)[0], np.float64)
     with open_video(tmp_path / TEXTURE.format(4), YuvFormat(256, 192)) as video:

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from mvtools.geometry.camera import Camera
+from mvtools.geometry.lens import distort_normalized, project_points, undistort_normalized
 from mvtools.geometry.projection import reproject
 from mvtools.scene import (
     Box,
@@ -26,16 +27,13 @@ from mvtools.scene import (
     calibration_rig,
     capture_checkerboard,
     default_scene,
-    distort_normalized,
     intrinsics,
     linear_rig,
-    project_points,
     quantize,
     random_color_mismatches,
     render,
     sample_intrinsics,
     sample_rigs,
-    undistort_normalized,
 )
 
 GREY = UniformTexture((0.5, 0.5, 0.5))

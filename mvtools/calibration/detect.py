@@ -2,7 +2,7 @@
 
 Corners come out in the order of :meth:`Board.object_points` (row by row, the
 first inner corner at the board origin), with pixel centres at integer
-coordinates (OpenCV's convention, that of :mod:`mvtools.scene.render`).
+coordinates (OpenCV's convention, that of :mod:`mvtools.geometry.lens`).
 """
 
 from __future__ import annotations

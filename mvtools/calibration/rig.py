@@ -26,7 +26,7 @@ from scipy.spatial.transform import Rotation
 from mvtools.calibration.detect import Board, Detection
 from mvtools.errors import DataError
 from mvtools.geometry.camera import Camera
-from mvtools.scene.render import project_points
+from mvtools.geometry.lens import project_points
 
 __all__ = ["RigCalibration", "calibrate_rig"]
 

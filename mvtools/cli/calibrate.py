@@ -17,13 +17,13 @@ from mvtools.cli.inputs import open_input_video
 from mvtools.cli.options import POSITIVE, ProgramCommand, program, video_format_options
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
+from mvtools.geometry.lens import distort_normalized
 from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.cameras import write_cameras
 from mvtools.io.captures import open_captures
 from mvtools.io.guard import check_outputs
 from mvtools.io.images import write_image
 from mvtools.io.json_cameras import write_json_cameras
-from mvtools.scene.render import distort_normalized
 
 LOG = logging.getLogger("mvtools")
 

@@ -18,7 +18,7 @@ reports how far each centre is from the fitted line.
 The output focal length and principal point follow ``alpha`` as in
 ``cv2.stereoRectify`` and ``cv2.getOptimalNewCameraMatrix``. The outline of every
 source picture (its border sampled every half pixel, undistorted exactly with
-:func:`mvtools.scene.render.undistort_normalized`, turned into the output
+:func:`mvtools.geometry.lens.undistort_normalized`, turned into the output
 orientation) bounds the region each camera sees. With ``alpha = 0`` the output
 rectangle is the largest one of the output's aspect ratio centred on the inner
 rectangle of the outlines (the centre of the band that lies within every outline's
@@ -45,7 +45,7 @@ import numpy as np
 
 from mvtools.errors import DataError
 from mvtools.geometry.camera import Camera
-from mvtools.scene.render import project_points, undistort_normalized
+from mvtools.geometry.lens import project_points, undistort_normalized
 
 __all__ = ["EDGE_TOLERANCE", "Rectification", "cameras_between", "rectify_cameras", "undistortion"]
 

@@ -12,7 +12,7 @@ import cv2
 import numpy as np
 
 from mvtools.geometry.camera import Camera
-from mvtools.scene.render import pixel_rays
+from mvtools.geometry.lens import pixel_rays
 
 __all__ = ["CHROMA_SITING", "chroma_maps", "rectified_depth", "remap_plane"]
 

@@ -27,15 +27,7 @@ from mvtools.scene.content import (
     default_scene,
     fractal_noise,
 )
-from mvtools.scene.render import (
-    Rendering,
-    distort_normalized,
-    pixel_rays,
-    project_points,
-    quantize,
-    render,
-    undistort_normalized,
-)
+from mvtools.scene.render import Rendering, quantize, render
 from mvtools.scene.rigs import (
     ColorMismatch,
     arc_rig,
@@ -70,18 +62,14 @@ __all__ = [
     "capture_checkerboard",
     "corner_visibility",
     "default_scene",
-    "distort_normalized",
     "fractal_noise",
     "intrinsics",
     "linear_rig",
     "perturb_rig",
-    "pixel_rays",
-    "project_points",
     "quantize",
     "random_color_mismatches",
     "render",
     "rotation_about_y",
     "sample_intrinsics",
     "sample_rigs",
-    "undistort_normalized",
 ]

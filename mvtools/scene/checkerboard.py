@@ -17,8 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from mvtools.geometry.camera import Camera
+from mvtools.geometry.lens import project_points
 from mvtools.scene.content import Plane, Rectangle, Scene, UniformTexture
-from mvtools.scene.render import project_points, quantize, render
+from mvtools.scene.render import quantize, render
 from mvtools.scene.rigs import axis_angle_rotation, intrinsics, linear_rig, perturb_rig
 
 
