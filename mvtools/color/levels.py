@@ -5,7 +5,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 from functools import cache
 
-import cv2
 import numpy as np
 
 from mvtools.color.space import downsample_chroma, upsample_chroma
@@ -169,4 +168,6 @@ def depth_preview(values: np.ndarray, *, bits: int) -> np.ndarray:
     if values.ndim != 2:
         raise ValueError(f"a depth map is 2-D, got shape {values.shape}")
     scaled = requantize(values, bits, 8, full_scale=True)
+    import cv2  # here: a program that draws no preview does not load OpenCV
+
     return cv2.applyColorMap(scaled, cv2.COLORMAP_TURBO)[..., ::-1].copy()

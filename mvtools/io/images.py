@@ -10,12 +10,12 @@ Every output goes through :func:`mvtools.io.atomic.atomic_output`.
 
 from __future__ import annotations
 
+import functools
 import logging
 import os
 import re
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from mvtools.errors import DataError, UsageError
@@ -26,9 +26,18 @@ __all__ = ["IMAGE_EXTENSIONS", "encode_image", "read_image", "read_pfm", "write_
 
 logger = logging.getLogger(__name__)
 
-# OpenCV's decoders report damage on stderr from C++ ("[ERROR:0@0.057] ... IHDR chunk
-# shall be first"), before and beside read_image's one line naming the file: silenced.
-cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)
+
+@functools.cache
+def _opencv():
+    """OpenCV, imported when an image is first read or written (0.1 s a process that
+    writes none does not pay)."""
+    import cv2
+
+    # OpenCV's decoders report damage on stderr from C++ ("[ERROR:0@0.057] ... IHDR chunk
+    # shall be first"), before and beside read_image's one line naming the file: silenced.
+    cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_SILENT)
+    return cv2
+
 
 # Extensions written through OpenCV, and whether they hold 16-bit samples.
 _CV2_EXTENSIONS = {
@@ -75,6 +84,7 @@ def read_image(path: str | os.PathLike, *, grayscale: bool = False) -> np.ndarra
         image = read_pfm(path)
     else:
         data = read_bytes(path, "image")
+        cv2 = _opencv()
         image = cv2.imdecode(np.frombuffer(data, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
         if image is None:
             raise DataError(
@@ -84,6 +94,7 @@ def read_image(path: str | os.PathLike, *, grayscale: bool = False) -> np.ndarra
             )
         image = _from_opencv(image, path)
     if grayscale and image.ndim == 3:
+        cv2 = _opencv()
         image = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)
     return image
 
@@ -160,6 +171,7 @@ def encode_image(array: np.ndarray, ext: str = ".png", *, jpeg_quality: int = 95
         raise ValueError(f".pgm holds grey images, got shape {array.shape}; use .ppm or .png")
     if array.ndim == 3:
         array = array[..., ::-1]
+    cv2 = _opencv()
     params = [cv2.IMWRITE_JPEG_QUALITY, int(jpeg_quality)] if ext in (".jpg", ".jpeg") else []
     ok, encoded = cv2.imencode(ext, np.ascontiguousarray(array), params)
     if not ok:
