@@ -22,16 +22,6 @@ from mvtools.io.images import write_image
 from mvtools.io.json_cameras import write_json_cameras
 from mvtools.io.yuv import YuvFormat, frame_from_luma, open_writer
 from mvtools.params import DersParams, VsrsParams
-from mvtools.scene import (
-    Checkerboard,
-    board_poses,
-    calibration_rig,
-    capture_checkerboard,
-    default_scene,
-    random_color_mismatches,
-    render,
-    sample_rigs,
-)
 
 PARTS = ("line", "arc", "distorted", "checkerboard")
 # Board poses of the distorted array's own captures: its pictures are small (256x192 by
@@ -144,6 +134,9 @@ def command(
             f"--width and --height must be multiples of 8 (4:2:0 chroma, VSRS "
             f"row alignment), got {width}x{height}"
         )
+    # the scene's renderer compiles numba kernels: loaded for a run, not for --help
+    from mvtools.scene import calibration_rig, default_scene, random_color_mismatches, sample_rigs
+
     parts = parts or PARTS
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -233,6 +226,8 @@ def _depth_name(index: int, width: int, height: int, pix_fmt: str) -> str:
 
 def _write_views(folder: Path, cameras, scene, *, frames, samples, mismatches, depth8, progress):
     """Texture (4:2:0), 8-bit depth (4:2:0, chroma 128) and 16-bit depth (4:0:0) per view."""
+    from mvtools.scene import render
+
     znear, zfar = scene.znear, scene.zfar
     for index, camera in enumerate(cameras):
         width, height = camera.size
@@ -392,6 +387,8 @@ def _scene_truth(scene, rigs, mismatches, *, width, height, frames, seed) -> dic
 def _write_checkerboard(folder: Path, cameras, *, count, noise, seed, **poses):
     """Captures of the board at ``count`` poses (:func:`board_poses` with ``seed`` and
     ``poses``) by ``cameras``, with their truth."""
+    from mvtools.scene import Checkerboard, board_poses, capture_checkerboard
+
     board = Checkerboard()
     rotations, translations = board_poses(count, cameras, board, seed=seed, **poses)
     for camera in cameras:
