@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 import numpy as np
@@ -29,15 +30,9 @@ from mvtools.io.cameras import get_camera, write_cameras
 from mvtools.io.guard import check_output
 from mvtools.io.json_cameras import read_camera_file, write_json_cameras
 from mvtools.io.yuv import open_writer
-from mvtools.rectification import (
-    DepthResampler,
-    Rectification,
-    cameras_between,
-    chroma_maps,
-    rectify_cameras,
-    remap_plane,
-    undistortion,
-)
+
+if TYPE_CHECKING:
+    from mvtools.rectification import Rectification
 
 LOG = logging.getLogger("mvtools")
 
@@ -206,6 +201,9 @@ def command(
     out = Path(out_dir)
     camera_target = Path(cameras_out) if cameras_out else out / "cameras.txt"
     targets = _outputs(videos, out, camera_target)
+    # the rectification's maps and warps load OpenCV: for a run, not for --help
+    from mvtools.rectification import cameras_between, rectify_cameras, undistortion
+
     with at_fault(DataError, path=camera_file):
         if undistort_only:
             result = undistortion(selected, alpha=alpha)
@@ -361,6 +359,8 @@ def _rectify_video(
     frame_count,
     depth_range,
 ) -> None:
+    from mvtools.rectification import DepthResampler, chroma_maps, remap_plane
+
     map_x, map_y = result.maps[index]
     with open_input_video(path, size, pix_fmt) as video:
         fmt = video.format
