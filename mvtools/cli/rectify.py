@@ -27,6 +27,7 @@ from mvtools.geometry.camera import turn_world
 from mvtools.geometry.depth import DepthCoding, check_depth_range
 from mvtools.io.atomic import output_folder_exists
 from mvtools.io.cameras import get_camera, write_cameras
+from mvtools.io.chroma import CHROMA_SUBSAMPLING
 from mvtools.io.guard import check_output
 from mvtools.io.json_cameras import read_camera_file, write_json_cameras
 from mvtools.io.yuv import open_writer
@@ -366,7 +367,7 @@ def _rectify_video(
         fmt = video.format
         frames = frame_range([video], start_frame, frame_count)
         mid = 1 << (fmt.bits - 1)
-        factors = _subsampling(fmt)
+        factors = CHROMA_SUBSAMPLING[fmt.chroma]
         chroma = chroma_maps(map_x, map_y, subsampling=factors) if factors else None
         if kind == "depth":
             coding = DepthCoding(depth_range, fmt.bits)
@@ -389,10 +390,6 @@ def _rectify_video(
                     rest = [remap_plane(plane, *chroma, fill=mid) for plane in planes[1:]]
                 writer.write([luma, *rest])
                 progress.advance()
-
-
-def _subsampling(fmt) -> tuple[int, int] | None:
-    return {"420": (2, 2), "422": (2, 1), "444": (1, 1)}.get(fmt.chroma)
 
 
 def _summary(result: Rectification, undistort_only: bool) -> str:

@@ -8,6 +8,7 @@ from functools import cache
 import numpy as np
 
 from mvtools.color.space import downsample_chroma, upsample_chroma
+from mvtools.io.chroma import chroma_plane_shape
 
 __all__ = ["convert_planes", "depth_preview", "requantize"]
 
@@ -131,7 +132,7 @@ def convert_planes(
     luma = requantize(planes[0], bits, to_bits, full_scale=depth)
     if to_chroma == "400":
         return (luma,)
-    shape = _chroma_shape(luma.shape, to_chroma)
+    shape = chroma_plane_shape(luma.shape, to_chroma)
     if depth or len(planes) == 1:
         mid = np.full(shape, 2 ** (to_bits - 1), dtype=_dtype(to_bits))
         return (luma, mid, mid.copy())
@@ -142,14 +143,6 @@ def convert_planes(
     if to_chroma != "444":
         full = [downsample_chroma(plane, chroma=to_chroma) for plane in full]
     return (luma, *full)
-
-
-def _chroma_shape(luma_shape: tuple[int, int], chroma: str) -> tuple[int, int]:
-    height, width = luma_shape
-    half_w = (width + 1) // 2
-    return {"444": (height, width), "422": (height, half_w), "420": ((height + 1) // 2, half_w)}[
-        chroma
-    ]
 
 
 def depth_preview(values: np.ndarray, *, bits: int) -> np.ndarray:

@@ -29,6 +29,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from mvtools.io.chroma import CHROMA_FORMATS
+
 __all__ = [
     "MATRICES",
     "downsample_chroma",
@@ -235,8 +237,9 @@ def rgb_to_yuv(
     rgb = np.asarray(rgb)
     if rgb.ndim != 3 or rgb.shape[2] != 3:
         raise ValueError(f"rgb must have shape (H, W, 3), got {rgb.shape}")
-    if chroma not in ("420", "422", "444", "400"):
-        raise ValueError(f"chroma must be one of '420', '422', '444', '400', got {chroma!r}")
+    if chroma not in CHROMA_FORMATS:
+        formats = ", ".join(map(repr, CHROMA_FORMATS))
+        raise ValueError(f"chroma must be one of {formats}, got {chroma!r}")
     _check_bits(bits)
     if rgb.dtype.kind == "f":
         normalised = rgb.astype(np.float64)

@@ -33,11 +33,11 @@ import numpy as np
 
 from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import atomic_output
+from mvtools.io.chroma import CHROMA_FORMATS, chroma_plane_shape
 from mvtools.io.guard import note_input
 
 __all__ = [
     "BIT_DEPTHS",
-    "CHROMA_FORMATS",
     "DEFAULT_FRAME_RATE",
     "SUPPORTED_PIX_FMTS",
     "RawVideoReader",
@@ -56,7 +56,6 @@ __all__ = [
 
 logger = logging.getLogger(__name__)
 
-CHROMA_FORMATS = ("420", "422", "444", "400")
 BIT_DEPTHS = (8, 10, 12, 16)
 
 # ffmpeg's names: "yuv420p", "yuv420p10le", ..., "gray", "gray10le", ...
@@ -146,15 +145,7 @@ class YuvFormat:
     @property
     def chroma_shape(self) -> tuple[int, int] | None:
         """(rows, columns) of each chroma plane, ``None`` for 4:0:0."""
-        if self.chroma == "400":
-            return None
-        half_w = -(-self.width // 2)
-        half_h = -(-self.height // 2)
-        return {
-            "420": (half_h, half_w),
-            "422": (self.height, half_w),
-            "444": (self.height, self.width),
-        }[self.chroma]
+        return chroma_plane_shape((self.height, self.width), self.chroma)
 
     @property
     def plane_shapes(self) -> tuple[tuple[int, int], ...]:

@@ -6,19 +6,17 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from mvtools.io.chroma import CHROMA_FORMATS, CHROMA_SUBSAMPLING, chroma_plane_shape
 from mvtools.pack.layout import Layout, Placement
 
-__all__ = ["CHROMA_FACTORS", "pack_frame", "unpack_frame"]
-
-# Luma samples per chroma sample, horizontally and vertically.
-CHROMA_FACTORS = {"420": (2, 2), "422": (2, 1), "444": (1, 1), "400": None}
+__all__ = ["pack_frame", "unpack_frame"]
 
 
 def _plane_box(placement: Placement, plane: int, chroma: str) -> tuple[int, int, int, int]:
     """(x, y, width, height) of the placement in plane ``plane`` of the packed frame."""
     if plane == 0:
         return placement.x, placement.y, placement.width, placement.height
-    fx, fy = CHROMA_FACTORS[chroma]
+    fx, fy = CHROMA_SUBSAMPLING[chroma]
     return (
         placement.x // fx,
         placement.y // fy,
@@ -86,14 +84,13 @@ def pack_frame(
         The packed planes; samples outside every view are black (luma 16, chroma
         mid-grey, at 8 bits).
     """
-    if chroma not in CHROMA_FACTORS:
-        raise ValueError(f"chroma must be one of {', '.join(CHROMA_FACTORS)}, got {chroma!r}")
+    if chroma not in CHROMA_FORMATS:
+        raise ValueError(f"chroma must be one of {', '.join(CHROMA_FORMATS)}, got {chroma!r}")
     dtype = np.uint8 if bits <= 8 else np.uint16
     mid, black = 1 << (bits - 1), 16 << (bits - 8)
     planes = [np.full((layout.height, layout.width), black, dtype)]
     if chroma != "400":
-        fx, fy = CHROMA_FACTORS[chroma]
-        shape = (-(-layout.height // fy), -(-layout.width // fx))
+        shape = chroma_plane_shape((layout.height, layout.width), chroma)
         planes += [np.full(shape, mid, dtype), np.full(shape, mid, dtype)]
     for placement in layout.placements:
         source = views[(placement.name, placement.kind)]
@@ -150,8 +147,9 @@ def unpack_frame(
             if index == 0:
                 shape = (placement.source_height, placement.source_width)
             else:
-                fx, fy = CHROMA_FACTORS[chroma]
-                shape = (-(-placement.source_height // fy), -(-placement.source_width // fx))
+                shape = chroma_plane_shape(
+                    (placement.source_height, placement.source_width), chroma
+                )
             restored.append(
                 _interpolate(plane, placement.decimation, shape)
                 if placement.decimation != (1, 1)
