@@ -1,4 +1,4 @@
-"""Colour-chart correction (mvtools.color.chart) and the chart files (mvtools.io.color_charts),
+"""Colorimetry and colour-chart correction (mvtools.color.colorimetry, .chart, .chart_correction) and the chart files (mvtools.io.color_charts),
 against published numbers: Sharma, Wu and Dalal's CIEDE2000 pairs, Lindbloom's sRGB and
 Bradford matrices, colour-science's ColorChecker values and OpenCV's ccm tests; and a
 synthetic photograph of a ColorChecker with a known camera response."""
@@ -12,23 +12,21 @@ import pytest
 from chart_scene import CORNERS, MISMATCH, photograph
 from shared_data import REPO_ROOT, shared_data
 
-from mvtools.color.chart import (
-    GREY_PATCHES,
+from mvtools.color.chart import GREY_PATCHES, detect_chart, sample_patches
+from mvtools.color.chart_correction import fit_chart_correction
+from mvtools.color.colorimetry import (
     SRGB_TO_XYZ,
     WHITE_D50,
     WHITE_D65,
     XYZ_TO_SRGB,
     bradford_matrix,
     delta_e_2000,
-    detect_chart,
-    fit_chart_correction,
     gamma_to_linear,
     lab_to_linear_rgb,
     lab_to_xyz,
     linear_rgb_to_lab,
     linear_to_gamma,
     linear_to_srgb,
-    sample_patches,
     srgb_to_linear,
     xyz_to_lab,
 )

@@ -20,7 +20,8 @@ from shared_data import shared_data
 
 from mvtools.cli import colorcorrect, estimate_depth
 from mvtools.color import rgb_to_yuv, yuv_to_rgb
-from mvtools.color.chart import delta_e_2000, linear_rgb_to_lab, sample_patches, srgb_to_linear
+from mvtools.color.chart import sample_patches
+from mvtools.color.colorimetry import delta_e_2000, linear_rgb_to_lab, srgb_to_linear
 from mvtools.color.correspondence import warped_psnr
 from mvtools.datasets import load_middlebury_ground_truth, score_middlebury
 from mvtools.geometry.depth import depth_to_z

@@ -20,14 +20,9 @@ from mvtools.cli.options import (
 )
 from mvtools.cli.progress import Progress
 from mvtools.color import rgb_to_yuv, yuv_to_rgb
-from mvtools.color.chart import (
-    delta_e_2000,
-    detect_chart,
-    fit_chart_correction,
-    linear_rgb_to_lab,
-    sample_patches,
-    srgb_to_linear,
-)
+from mvtools.color.chart import detect_chart, sample_patches
+from mvtools.color.chart_correction import fit_chart_correction
+from mvtools.color.colorimetry import delta_e_2000, linear_rgb_to_lab, srgb_to_linear
 from mvtools.color.correct import (
     SPACES,
     TARGETS,

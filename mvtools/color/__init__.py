@@ -3,7 +3,9 @@
 Colour correction lives in the submodules: :mod:`~mvtools.color.lut` (per-channel
 tables), :mod:`~mvtools.color.correspondence` (samples that show the same scene point),
 :mod:`~mvtools.color.correct` (tables of an array's views, applied to frames) and
-:mod:`~mvtools.color.chart` (colour science, ColorChecker detection, curve plus matrix).
+:mod:`~mvtools.color.colorimetry` (transfer functions, white points, CIELAB, CIEDE2000),
+:mod:`~mvtools.color.chart` (ColorChecker detection and sampling) and
+:mod:`~mvtools.color.chart_correction` (tone curve plus matrix fitted to a chart).
 """
 
 from mvtools.color.space import (

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mvtools.color.chart import xy_to_xyz
+from mvtools.color.colorimetry import xy_to_xyz
 from mvtools.errors import ConfigError
 from mvtools.io.files import json_numbers, read_json, read_text
 
