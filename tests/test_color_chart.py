@@ -1,4 +1,5 @@
-"""Colorimetry and colour-chart correction (mvtools.color.colorimetry, .chart, .chart_correction) and the chart files (mvtools.io.color_charts),
+"""Colorimetry (mvtools.color.colorimetry), colour-chart correction (mvtools.color.chart,
+mvtools.color.chart_correction) and the chart files (mvtools.io.color_charts),
 against published numbers: Sharma, Wu and Dalal's CIEDE2000 pairs, Lindbloom's sRGB and
 Bradford matrices, colour-science's ColorChecker values and OpenCV's ccm tests; and a
 synthetic photograph of a ColorChecker with a known camera response."""
