@@ -7,12 +7,11 @@ import json
 import logging
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 import numpy as np
 
-from mvtools.calibration import Board, RigCalibration, calibrate_rig, detect_board
-from mvtools.calibration.drawing import draw_corners
 from mvtools.cli.inputs import open_input_video
 from mvtools.cli.options import POSITIVE, ProgramCommand, program, video_format_options
 from mvtools.cli.progress import Progress
@@ -24,6 +23,9 @@ from mvtools.io.captures import open_captures
 from mvtools.io.guard import check_outputs
 from mvtools.io.images import write_image
 from mvtools.io.json_cameras import write_json_cameras
+
+if TYPE_CHECKING:
+    from mvtools.calibration import RigCalibration
 
 LOG = logging.getLogger("mvtools")
 
@@ -143,6 +145,9 @@ def command(
     sources = [
         open_captures(spec, lambda path: open_input_video(path, size, pix_fmt)) for spec in captures
     ]
+    # detection and the rig's fit load OpenCV and SciPy: for a run, not for --help
+    from mvtools.calibration import Board, calibrate_rig
+
     try:
         camera_names = _camera_names(sources, names)
         _check_outputs(output, json_output, report_dir, camera_names)
@@ -230,6 +235,8 @@ def _reference_index(names: list[str], reference: str | None) -> int:
 def _detect(sources, names, board):
     """The board's detection in every capture, image sizes, and each camera's first
     capture with a board (for the report)."""
+    from mvtools.calibration import detect_board
+
     progress = Progress(sum(len(source) for source in sources), "captures searched")
     image_points, sizes, first_images = [], [], []
     for name, source in zip(names, sources):
@@ -359,6 +366,8 @@ def _report(result: RigCalibration, where) -> dict:
 
 
 def _write_report(folder: Path, result: RigCalibration, where, image_points, first_images):
+    from mvtools.calibration.drawing import draw_corners
+
     folder.mkdir(parents=True, exist_ok=True)
     with atomic_output(folder / _REPORT, "w") as handle:
         json.dump(_report(result, where), handle, indent=2)
