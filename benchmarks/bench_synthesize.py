@@ -29,7 +29,6 @@ from common import DATA, report
 
 from mvtools.cli.configs import load_config
 from mvtools.cli.main import cli
-from mvtools.cli.synthesize import synthesis_options
 from mvtools.datasets import cones_multiview, write_cones_case
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import DepthCoding
@@ -38,6 +37,7 @@ from mvtools.io.config import write_config
 from mvtools.io.yuv import YuvFormat, frame_from_luma, read_frame, write_video
 from mvtools.metrics import iv_psnr, psnr
 from mvtools.params import VsrsParams
+from mvtools.run.synthesize import synthesis_options
 from mvtools.synthesis import ReferenceView
 from mvtools.synthesis.pipeline import Synthesizer
 from mvtools.synthesis.working import to_working

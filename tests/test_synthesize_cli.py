@@ -20,13 +20,13 @@ from mirrored_world import write_mirrored_cameras
 from shared_data import shared_data
 from synthesize_runner import run_synthesize
 
-from mvtools.cli import synthesize as synthesize_module
 from mvtools.errors import DataError
 from mvtools.geometry.depth import depth_to_z, z_to_depth
 from mvtools.geometry.projection import backproject, pixel_grid
 from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import YuvFormat, frame_from_luma, open_video, write_video
 from mvtools.metrics import psnr
+from mvtools.synthesis import pipeline
 
 SAMPLE = Path(__file__).resolve().parent.parent / "sample_data"
 LINE, ARC = SAMPLE / "line", SAMPLE / "arc"
@@ -568,7 +568,7 @@ def test_output_may_not_overwrite_an_input(tmp_path):
 
 
 def test_failure_after_some_frames_leaves_no_output(tmp_path, monkeypatch):
-    class FailingOnSecondFrame(synthesize_module.Synthesizer):
+    class FailingOnSecondFrame(pipeline.Synthesizer):
         calls = 0
 
         def frame(self, references):
@@ -577,7 +577,7 @@ def test_failure_after_some_frames_leaves_no_output(tmp_path, monkeypatch):
                 raise DataError("damaged frame", path="simulated")
             return super().frame(references)
 
-    monkeypatch.setattr(synthesize_module, "Synthesizer", FailingOnSecondFrame)
+    monkeypatch.setattr(pipeline, "Synthesizer", FailingOnSecondFrame)
     code, _, err = run(
         LINE / "synthesize_cam2.cfg",
         "--output-depth",

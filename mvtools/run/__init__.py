@@ -17,6 +17,9 @@ import importlib
 _EXPORTS: dict[str, str] = {
     "stream_frames": "stream",
     "ProgressCallback": "stream",
+    "synthesize_video": "synthesize",
+    "synthesize_config": "synthesize",
+    "ReferenceVideo": "synthesize",
 }
 
 __all__ = sorted(_EXPORTS)
