@@ -27,13 +27,13 @@ from pathlib import Path
 import cv2
 from common import DATA, report
 
-from mvtools.cli.configs import load_config
 from mvtools.cli.main import cli
 from mvtools.datasets import cones_multiview, write_cones_case
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import DepthCoding
 from mvtools.io.cameras import read_cameras, write_cameras
 from mvtools.io.config import write_config
+from mvtools.io.loaded_config import load_config
 from mvtools.io.yuv import YuvFormat, frame_from_luma, read_frame, write_video
 from mvtools.metrics import iv_psnr, psnr
 from mvtools.params import VsrsParams

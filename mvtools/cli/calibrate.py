@@ -12,7 +12,6 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
-from mvtools.cli.inputs import open_input_video
 from mvtools.cli.options import POSITIVE, ProgramCommand, program, video_format_options
 from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
@@ -22,6 +21,7 @@ from mvtools.io.cameras import write_cameras
 from mvtools.io.captures import open_captures
 from mvtools.io.guard import check_outputs
 from mvtools.io.images import write_image
+from mvtools.io.inputs import open_input_video
 from mvtools.io.json_cameras import write_json_cameras
 
 if TYPE_CHECKING:

@@ -9,7 +9,6 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import (
     DEPTH,
     ProgramCommand,
@@ -43,6 +42,7 @@ from mvtools.io.cameras import get_camera
 from mvtools.io.color_charts import DEFAULT_CHART, read_colorchecker
 from mvtools.io.guard import check_output
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
+from mvtools.io.inputs import frame_range, open_input_video
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.luts import write_cube, write_lut, write_matrix
 from mvtools.io.yuv import open_writer

@@ -9,7 +9,6 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import (
     DEPTH,
     FINITE,
@@ -35,6 +34,7 @@ from mvtools.geometry.depth import (
 )
 from mvtools.io.cameras import read_cameras, write_cameras
 from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
+from mvtools.io.inputs import frame_range, open_input_video
 from mvtools.io.json_cameras import (
     DEFAULT_FPS,
     read_json_cameras,

@@ -13,9 +13,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.configs import load_config
 from mvtools.cli.evaluate import score_videos
-from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import (
     POSITIVE,
     ProgramCommand,
@@ -29,6 +27,8 @@ from mvtools.errors import DataError, UsageError
 from mvtools.io.abort import run_program
 from mvtools.io.atomic import atomic_output
 from mvtools.io.encoders import ENCODERS, decode_hevc, encode_hevc, program_path
+from mvtools.io.inputs import frame_range, open_input_video
+from mvtools.io.loaded_config import load_config
 from mvtools.io.yuv import YuvFormat, open_video, open_writer
 from mvtools.metrics import bd_psnr, bd_rate
 from mvtools.pack import plan_layout

@@ -2,7 +2,7 @@
 a rectified stereo pair.
 
 DERS mode (``estimate-depth CONFIG [Key=Value ...]``): the configuration is read
-unmodified (:func:`mvtools.cli.configs.load_config`), ``Key=Value`` items and one option
+unmodified (:func:`mvtools.io.loaded_config.load_config`), ``Key=Value`` items and one option
 per DERS key override it; the center view's depth is estimated from its left and/or
 right neighbours by plane sweeping (:class:`mvtools.depth.ders.DersEstimator`), frames
 streamed one at a time, and written as an MPEG depth map (8-bit 4:2:0 with chroma 128,
@@ -29,12 +29,6 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.configs import (
-    LoadedConfig,
-    command_line_input,
-    load_config,
-    video_format_for,
-)
 from mvtools.cli.options import (
     FINITE,
     ProgramCommand,
@@ -53,6 +47,12 @@ from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.config import param_entry
 from mvtools.io.guard import check_output
 from mvtools.io.images import read_image, write_image
+from mvtools.io.loaded_config import (
+    LoadedConfig,
+    command_line_input,
+    load_config,
+    video_format_for,
+)
 from mvtools.io.yuv import (
     YuvFormat,
     format_from_name,

@@ -13,7 +13,6 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import (
     DEPTH,
     FINITE,
@@ -30,6 +29,7 @@ from mvtools.io.atomic import atomic_output, output_folder_exists
 from mvtools.io.files import read_json
 from mvtools.io.guard import check_output, note_input
 from mvtools.io.images import read_image
+from mvtools.io.inputs import frame_range, open_input_video
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.middlebury import middlebury_set_for, read_ground_truth
 from mvtools.io.yuv import VideoReader

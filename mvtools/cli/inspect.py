@@ -8,8 +8,6 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.configs import LoadedConfig, load_config
-from mvtools.cli.inputs import open_input_video
 from mvtools.cli.options import (
     ProgramCommand,
     data_dir_option,
@@ -21,7 +19,9 @@ from mvtools.errors import UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import read_cameras, read_htm_cameras
 from mvtools.io.config import read_htm_config
+from mvtools.io.inputs import open_input_video
 from mvtools.io.json_cameras import read_json_cameras
+from mvtools.io.loaded_config import LoadedConfig, load_config
 from mvtools.params import DersParams, VsrsParams, param_specs
 
 KINDS = ("video", "cameras", "json-cameras", "htm-cameras", "vsrs", "ders", "htm-config")

@@ -8,7 +8,6 @@ from pathlib import Path
 
 import click
 
-from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import (
     ProgramCommand,
     frame_range_options,
@@ -20,6 +19,7 @@ from mvtools.cli.progress import Progress
 from mvtools.errors import DataError, UsageError
 from mvtools.io.atomic import output_folder_exists
 from mvtools.io.guard import check_output
+from mvtools.io.inputs import frame_range, open_input_video
 from mvtools.io.sidecar import PackedVideo, read_sidecar, repeated_file, sidecar_path, write_sidecar
 from mvtools.io.yuv import YuvFormat, open_video, open_writer
 from mvtools.pack import LAYOUTS, pack_frame, plan_layout, unpack_frame

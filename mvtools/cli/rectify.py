@@ -10,7 +10,6 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
-from mvtools.cli.inputs import frame_range, open_input_video
 from mvtools.cli.options import (
     DEPTH,
     FiniteFloat,
@@ -29,6 +28,7 @@ from mvtools.io.atomic import output_folder_exists
 from mvtools.io.cameras import get_camera, write_cameras
 from mvtools.io.chroma import CHROMA_SUBSAMPLING
 from mvtools.io.guard import check_output
+from mvtools.io.inputs import frame_range, open_input_video
 from mvtools.io.json_cameras import read_camera_file, write_json_cameras
 from mvtools.io.yuv import open_writer
 

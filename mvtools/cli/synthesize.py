@@ -1,6 +1,6 @@
 """``mvtools synthesize``: virtual views from texture and depth, reading VSRS configurations.
 
-The configuration file is read unmodified (:func:`mvtools.cli.configs.load_config`);
+The configuration file is read unmodified (:func:`mvtools.io.loaded_config.load_config`);
 ``Key=Value`` items and the options derived from the same parameter table override it.
 Frames are streamed: one frame of every input is in memory at a time, and every
 output is written atomically (nothing appears at an output path unless the whole run
@@ -14,7 +14,6 @@ from pathlib import Path
 
 import click
 
-from mvtools.cli.configs import command_line_input, load_config
 from mvtools.cli.options import (
     DEPTH,
     ProgramCommand,
@@ -26,6 +25,7 @@ from mvtools.cli.options import (
 )
 from mvtools.cli.progress import Progress
 from mvtools.io.config import COMMAND_LINE, ConfigEntry, resolve_output_path
+from mvtools.io.loaded_config import command_line_input, load_config
 from mvtools.params import VsrsParams
 from mvtools.run.synthesize import (
     DEFAULT_HOLE_FILLING,

@@ -22,12 +22,12 @@ from typing import Any
 
 import numpy as np
 
-from mvtools.cli.configs import LoadedConfig, load_config, video_format_for
 from mvtools.errors import ConfigError, DataError, UsageError, at_fault
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import DepthCoding, depth_sign, facing_camera
 from mvtools.io.config import param_entry
 from mvtools.io.guard import check_output
+from mvtools.io.loaded_config import LoadedConfig, load_config, video_format_for
 from mvtools.io.yuv import VideoReader, YuvFormat, frame_from_luma, open_video, open_writer
 from mvtools.params import VsrsParams
 from mvtools.run.stream import ProgressCallback, stream_frames
@@ -313,7 +313,7 @@ def synthesize_loaded(
     warm_up_progress: ProgressCallback | None = None,
 ) -> dict[str, Path]:
     """Synthesize the virtual video of a loaded VSRS configuration
-    (:func:`mvtools.cli.configs.load_config`), from its left and right views and
+    (:func:`mvtools.io.loaded_config.load_config`), from its left and right views and
     ``extra_references``.
 
     Every input is opened before any output, and no output may name an input; the

@@ -1,4 +1,4 @@
-"""Loading a VSRS or DERS configuration the same way in every program.
+"""Loading a VSRS or DERS configuration the same way in every program and in the library.
 
 The configuration file, then ``Key=Value`` items, then command-line options (which
 are derived from the same parameter table) make the parameters; the input files
@@ -13,7 +13,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from mvtools.cli.inputs import frame_range
 from mvtools.errors import ConfigError, DataError
 from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import get_camera
@@ -28,6 +27,7 @@ from mvtools.io.config import (
     resolve_input_path,
     resolve_output_path,
 )
+from mvtools.io.inputs import frame_range
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.yuv import VideoReader, YuvFormat, format_from_name, open_video
 from mvtools.params import Kind, param_specs
@@ -76,7 +76,7 @@ class LoadedConfig:
 
     def frame_range(self, readers: list[VideoReader]) -> range:
         """The frames of StartFrame and TotalNumberOfFrames that every reader has
-        (:func:`mvtools.cli.inputs.frame_range`); a start past the end names what gave
+        (:func:`mvtools.io.inputs.frame_range`); a start past the end names what gave
         it: ``--start-frame``, or the key with its file and line."""
         params = self.params
         given = None if "start_frame" in self.options else param_entry(params, "start_frame")
