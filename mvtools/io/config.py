@@ -396,7 +396,7 @@ def resolve_input_path(
     Returns
     -------
     Path
-        Absolute path of the file.
+        Absolute path of the file; ``-`` (standard input) for the value ``-``.
 
     Raises
     ------
@@ -405,6 +405,8 @@ def resolve_input_path(
     """
     if not entry.value:
         raise entry.error("no file name given", UsageError)
+    if entry.value == "-":
+        return Path("-")  # standard input: a Y4M stream (mvtools.io.yuv.STANDARD_STREAM)
     native, parts = _split_path(entry.value)
     candidates: list[Path] = []
     if native is not None:

@@ -25,6 +25,9 @@ import dataclasses
 import logging
 import os
 import re
+import shutil
+import sys
+import tempfile
 from collections.abc import Iterable, Iterator, Sequence
 from fractions import Fraction
 from pathlib import Path
@@ -32,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from mvtools.errors import DataError, UsageError
+from mvtools.io.abort import unfinished_file
 from mvtools.io.atomic import atomic_output
 from mvtools.io.chroma import CHROMA_FORMATS, chroma_plane_shape
 from mvtools.io.guard import note_input
@@ -661,6 +665,55 @@ def _ratio(value: str | None, path: Path, tag: str) -> Fraction | None:
         ) from None
 
 
+#: The file name that means standard input (for a reader) or standard output (for a
+#: writer), as in ffmpeg: the stream is Y4M, which carries its own format.
+STANDARD_STREAM = "-"
+
+
+def is_standard_stream(path: str | os.PathLike) -> bool:
+    """Whether ``path`` is :data:`STANDARD_STREAM` (a file named ``-`` is written as ``./-``)."""
+    return os.fspath(path) == STANDARD_STREAM
+
+
+class StdinY4mReader(Y4mReader):
+    """A Y4M stream on standard input (``ffmpeg ... -f yuv4mpegpipe -``).
+
+    Programs address frames by index and know the number of frames before they start,
+    which a pipe cannot tell; so the stream is first copied, in blocks, to a temporary
+    file (in ``TMPDIR``), which :meth:`close` removes, as does a stopping signal. Memory
+    does not grow with the number of frames; the disk holds one copy of the input.
+    """
+
+    def __init__(self, stream=None):
+        stream = sys.stdin.buffer if stream is None else stream
+        fd, name = tempfile.mkstemp(prefix=".mvtools-stdin.", suffix=".y4m")
+        self._spool = contextlib.ExitStack()
+        self._spool.enter_context(unfinished_file(name))
+        self._spool.callback(os.unlink, name)
+        try:
+            with os.fdopen(fd, "wb") as spool:
+                shutil.copyfileobj(stream, spool, 1 << 20)
+            with open(name, "rb") as spooled:
+                start = spooled.read(len(Y4M_MAGIC))
+            if not start:
+                raise DataError("standard input is empty: pipe a Y4M stream into it", path="-")
+            if start != Y4M_MAGIC:
+                raise DataError(
+                    "standard input is not a Y4M stream (no 'YUV4MPEG2 ...' header): "
+                    "pipe Y4M into it, e.g. ffmpeg ... -f yuv4mpegpipe -",
+                    path="-",
+                )
+            super().__init__(name)
+        except BaseException:
+            self._spool.close()
+            raise
+        self.path = Path(STANDARD_STREAM)
+
+    def close(self) -> None:
+        super().close()
+        self._spool.close()
+
+
 def _is_y4m(path: Path) -> bool:
     if path.suffix.lower() == ".y4m":
         return True
@@ -677,6 +730,7 @@ def open_video(path: str | os.PathLike, fmt: YuvFormat | None = None) -> VideoRe
     path : path-like
         ``.y4m`` (or any file starting with ``YUV4MPEG2``) carries its format; a raw
         file needs ``fmt`` or an ffmpeg-style name (``name_1024x768_yuv420p.yuv``).
+        ``-`` reads a Y4M stream from standard input (:class:`StdinY4mReader`).
     fmt : YuvFormat, optional
         Format of a raw file (wins over the name). Ignored for Y4M, except that a
         different size or layout is an error.
@@ -695,10 +749,13 @@ def open_video(path: str | os.PathLike, fmt: YuvFormat | None = None) -> VideoRe
         Empty file, a Y4M file holding no frame, or a size that is not a whole number
         of frames (the message names the formats that would fit).
     """
-    path = Path(path)
-    _file_size(path)
-    if _is_y4m(path):
-        reader = Y4mReader(path)
+    if is_standard_stream(path):
+        reader = StdinY4mReader()
+    else:
+        path = Path(path)
+        _file_size(path)
+        reader = Y4mReader(path) if _is_y4m(path) else None
+    if reader is not None:
         if fmt is not None and fmt != reader.format:
             reader.close()
             raise UsageError(f"the file is {reader.format}, not {fmt} as asked", path=path)
@@ -757,7 +814,12 @@ class VideoWriter:
         self.num_frames = 0
         self.y4m = y4m
         self._stack = contextlib.ExitStack()
-        self._file = self._stack.enter_context(atomic_output(self.path, "wb", what=what))
+        if is_standard_stream(path):
+            # A stream cannot be renamed into place: what was written has gone down the pipe.
+            self._file = sys.stdout.buffer
+            self._stack.callback(self._file.flush)
+        else:
+            self._file = self._stack.enter_context(atomic_output(self.path, "wb", what=what))
         if y4m:
             rate = Fraction(DEFAULT_FRAME_RATE if frame_rate is None else frame_rate)
             self._file.write(
@@ -855,10 +917,10 @@ def open_writer(
     carries none, such as raw video) is :data:`DEFAULT_FRAME_RATE`. The Y4M header is
     ffmpeg's: ``C420jpeg`` for 8-bit 4:2:0, ``C444``, ``Cmono``, ``C420p10``,
     ``Cmono16`` ... ``what`` names the output in messages (``"packed video (-o)"``).
+    ``-`` writes a Y4M stream to standard output (``... -o - | ffplay -``).
     """
-    return VideoWriter(
-        path, fmt, y4m=Path(path).suffix.lower() == ".y4m", frame_rate=frame_rate, what=what
-    )
+    y4m = is_standard_stream(path) or Path(path).suffix.lower() == ".y4m"
+    return VideoWriter(path, fmt, y4m=y4m, frame_rate=frame_rate, what=what)
 
 
 def write_video(
