@@ -307,9 +307,10 @@ published: $(PUBLISHED)/cones/cones.scores $(PUBLISHED)/tsukuba/tsukuba.scores \
 test: install
 	$(BIN)/python -m pytest -q
 
-# The edit-test loop: everything but the tests marked slow (pipelines, corpus-wide runs).
+# The edit-test loop: everything but the tests marked slow (pipelines, corpus-wide runs)
+# and those reading the published material (marked data by tests/conftest.py).
 test-fast: install
-	$(BIN)/python -m pytest -q -m "not slow"
+	$(BIN)/python -m pytest -q -m "not slow and not data"
 
 # ruff's lint and format rules are in pyproject.toml
 lint: install

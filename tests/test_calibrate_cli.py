@@ -54,6 +54,7 @@ def sample_rig(tmp_path_factory):
     return truth, out, stdout
 
 
+@pytest.mark.slow
 def test_sample_rig_recovers_the_true_cameras(sample_rig):
     truth, out, _ = sample_rig
     found = read_cameras(out / "cameras.txt")
@@ -151,6 +152,7 @@ def sample_capture(camera: str, index: int) -> np.ndarray:
     return read_image(CHECKERBOARD / camera / f"capture{index:02d}.png")
 
 
+@pytest.mark.slow
 def test_no_board_in_any_capture_names_the_camera(tmp_path):
     blank = np.full((480, 640), 128, np.uint8)
     write_captures(tmp_path / "camA", [sample_capture("cam0", index) for index in range(4)])
@@ -248,6 +250,7 @@ def test_empty_folder_is_a_usage_error(tmp_path):
     assert_one_line_error(stderr, "empty", "no images")
 
 
+@pytest.mark.slow
 def test_captures_from_grey_videos(tmp_path):
     fmt = YuvFormat(640, 480, chroma="400")
     videos = []
@@ -280,6 +283,7 @@ def test_captures_from_grey_videos(tmp_path):
     )
 
 
+@pytest.mark.slow
 def test_a_camera_never_seeing_the_board_with_the_others_is_named(tmp_path):
     blank = np.full((480, 640), 128, np.uint8)
     seen_by_first = [0, 2, 3]

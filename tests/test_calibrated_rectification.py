@@ -48,6 +48,7 @@ def row_differences(cameras, corners) -> np.ndarray:
     return np.concatenate(rows)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("model", ["K1 K2 P1 P2", "K1 K2", "K1 K2 of K1 K2 P1 P2"])
 def test_board_corners_share_rows_after_rectification(corners, model):
     calibration = calibrate_rig(

@@ -98,6 +98,7 @@ def sample_detections(request, truth):
     return [[detect_board(image, truth["board"]) for image in camera] for camera in images]
 
 
+@pytest.mark.slow
 def test_detected_corners_are_the_true_corners_in_their_order(sample_detections, truth):
     found = np.array([[d.corners is not None for d in camera] for camera in sample_detections])
     corners = truth["corners"]
@@ -135,6 +136,7 @@ def sample_calibration(sample_detections, truth):
     return result, time.perf_counter() - started
 
 
+@pytest.mark.slow
 def test_sample_rig_recovers_the_true_cameras(sample_calibration, truth):
     result, seconds = sample_calibration
     rotations, centres = in_frame_of(truth["cameras"], 0)
@@ -205,6 +207,7 @@ def exact_points(truth, keep):
     ]
 
 
+@pytest.mark.slow
 def test_exact_corners_give_the_exact_rig_through_a_chain_of_cameras(truth):
     keep = truth["visible"].copy()
     # cam0 and cam4 never see the board at the same instant: cam4 joins the
@@ -244,6 +247,7 @@ def test_exact_corners_give_the_exact_rig_through_a_chain_of_cameras(truth):
     np.testing.assert_array_equal(again.board_translations, result.board_translations)
 
 
+@pytest.mark.slow
 def test_a_full_rig_is_adjusted_in_well_under_ten_seconds(truth):
     # 5 cameras x 12 captures x 54 corners (every board, also those partly out of view).
     keep = np.ones(truth["visible"].shape, dtype=bool)
@@ -256,6 +260,7 @@ def test_a_full_rig_is_adjusted_in_well_under_ten_seconds(truth):
     assert seconds < 5.0  # measured 0.5 s
 
 
+@pytest.mark.slow
 def test_an_outlier_capture_is_dropped_and_its_camera_recalibrated(truth):
     keep = truth["visible"]
     points = exact_points(truth, keep)

@@ -26,6 +26,7 @@ def leftovers(folder: Path) -> list[str]:
     return sorted(path.name for path in folder.iterdir())
 
 
+@pytest.mark.slow
 def test_every_program_states_its_purpose():
     for name in (
         "calibrate",
@@ -194,6 +195,7 @@ def test_convert_images_to_yuv444_and_back_is_lossless_for_grey(tmp_path):
         assert np.array_equal(read_frame(video, index=index)[0], grey)
 
 
+@pytest.mark.slow
 def test_convert_depth_8_to_16_bit_keeps_meaning_and_z_is_exact(tmp_path):
     fmt = YuvFormat(4, 2)
     luma = np.array([[0, 255, 128, 1], [254, 2, 64, 200]], np.uint8)
@@ -254,6 +256,7 @@ def test_convert_depth_8_to_16_bit_keeps_meaning_and_z_is_exact(tmp_path):
     assert np.array_equal(read_frame(tmp_path / "back_4x2_yuv420p.yuv")[0], luma)
 
 
+@pytest.mark.slow
 def test_convert_negative_depth_range_gives_signed_z_and_positive_disparity(tmp_path):
     """Poznan's convention: Znear -2, Zfar -10; 1/z = v/255 (1/Znear - 1/Zfar) + 1/Zfar."""
     fmt = YuvFormat(2, 2)
@@ -430,6 +433,7 @@ def test_convert_cameras_text_to_json_and_back_keeps_projections(tmp_path):
         assert np.allclose(back[name].projection, camera.projection, atol=1e-9 * scale)
 
 
+@pytest.mark.slow
 def test_time_log_records_each_finished_program(tmp_path):
     log = tmp_path / "times.tsv"
     for size in ("1920x1080", "640x480"):
@@ -453,6 +457,7 @@ def test_every_program_states_the_installed_version(name):
     assert out.strip() == f"mvtools, version {importlib.metadata.version('mvtools')}"
 
 
+@pytest.mark.slow
 def test_verbose_shows_the_parameters_their_sources_and_the_inputs(tmp_path):
     line = Path(__file__).resolve().parent.parent / "sample_data" / "line"
     config = line / "synthesize_cam2.cfg"

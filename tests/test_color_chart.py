@@ -410,6 +410,7 @@ def test_turned_chart(chart_srgb, turn):
     assert found is not None and np.abs(found - corners).max() < 2.0
 
 
+@pytest.mark.slow
 def test_no_chart():
     rng = np.random.default_rng(0)
     checkerboard = cv2.imread(

@@ -8,6 +8,8 @@ import os
 import subprocess
 import sys
 
+import pytest
+
 from mvtools.kernels import MESSAGE
 
 A_PROGRAM_WITH_KERNELS = """
@@ -49,6 +51,7 @@ def _run(folder, cache):
     )
 
 
+@pytest.mark.slow
 def test_the_first_run_says_it_compiles_and_the_next_does_not(tmp_path):
     (tmp_path / "kernels.py").write_text(KERNELS)
     cache = tmp_path / "cache"

@@ -92,6 +92,7 @@ def page(build) -> str:
     return (build / "report.html").read_text()
 
 
+@pytest.mark.slow
 def test_page_holds_every_stage(page):
     # 2 corner pictures, 3 videos, 1 comparison of the scored pair
     assert page.count("<img ") == 6
@@ -147,6 +148,7 @@ def test_plots_place_points_where_the_values_say():
     assert xs[1] - xs[0] == pytest.approx(xs[2] - xs[1], abs=0.2)
 
 
+@pytest.mark.slow
 @needs_chromium
 def test_every_picture_shows_in_a_browser(build, page, tmp_path):
     options = [

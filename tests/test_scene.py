@@ -300,6 +300,7 @@ def _matched(detected, truth):
     return truth if forward <= backward else truth[::-1]
 
 
+@pytest.mark.slow
 def test_board_rendering_matches_an_independent_rendering():
     board = Checkerboard()
     camera = _camera(size=(320, 240))
@@ -338,6 +339,7 @@ def calibration_captures():
     return capture_checkerboard(cameras[::4], board, rotations, translations, seed=2)
 
 
+@pytest.mark.slow
 def test_checkerboard_truth_matches_detected_corners(calibration_captures):
     captures = calibration_captures
     assert captures.visible.sum() >= 4
@@ -378,6 +380,7 @@ def _row_residual(points, pattern):
     return float(np.sqrt(np.mean(np.square(residuals))))
 
 
+@pytest.mark.slow
 def test_undistortion_straightens_board_rows():
     board = Checkerboard()
     camera = Camera(
@@ -474,6 +477,7 @@ def sample_folder(tmp_path_factory):
     return folder
 
 
+@pytest.mark.slow
 def test_scene_program_writes_the_ground_truth(sample_folder):
     from mvtools.geometry.depth import depth_to_z
     from mvtools.io.cameras import read_cameras
@@ -564,6 +568,7 @@ def test_scene_program_writes_distortion_and_calibration_truth(sample_folder):
     assert image.shape == (120, 160) and image.dtype == np.uint8
 
 
+@pytest.mark.slow
 def test_scene_program_is_deterministic(sample_folder, tmp_path):
     result = _run_scene(tmp_path)
     assert result.exit_code == 0, result.output
@@ -580,6 +585,7 @@ def test_scene_program_rejects_sizes_off_the_grid(tmp_path):
     assert "multiples of 8" in result.output
 
 
+@pytest.mark.slow
 def test_committed_sample_data_is_what_the_generator_makes():
     """sample_data/ cannot go stale: one view of each rig, rendered again, is bit-identical
     to the committed 16-bit depth and 8-bit texture (`make sample` rewrites them)."""

@@ -76,6 +76,7 @@ def test_standard_input_is_read_as_y4m_and_its_copy_removed(tmp_path, monkeypatc
     assert list(spool.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_a_pipe_from_synthesize_into_evaluate_scores_as_the_file_does(tmp_path):
     synthesized = _mvtools("synthesize", LINE / "synthesize_cam2.cfg", "-q", "-o", "-")
     assert synthesized.returncode == 0, synthesized.stderr
@@ -110,6 +111,7 @@ def test_standard_input_that_is_not_y4m_is_one_line(tmp_path):
     assert list(tmp_path.iterdir()) == [reference]
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(shutil.which("ffmpeg") is None, reason="ffmpeg is not installed")
 def test_ffmpeg_piped_into_a_configuration_input_synthesizes_as_the_file_does(tmp_path):
     view = LINE / "v1_texture_256x192_yuv420p.yuv"

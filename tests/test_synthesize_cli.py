@@ -429,6 +429,7 @@ def test_shipped_kendo_config_runs_unmodified(tmp_path):
     assert psnr(view, three, max_value=255) > apart
 
 
+@pytest.mark.slow
 def test_installed_program_runs(tmp_path):
     completed = subprocess.run(
         [
