@@ -16,7 +16,7 @@ HEAVY = ("numba", "cv2", "scipy", "maxflow")
 
 #: Programs whose modules still load a heavy library at import (issue 18, open): each is
 #: expected to fail until it is made lazy, and the mark goes when it passes.
-STILL_HEAVY = {"colorcorrect", "encode", "estimate_depth", "evaluate"}
+STILL_HEAVY = {"encode", "estimate_depth", "evaluate"}
 
 
 @pytest.mark.parametrize(

@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-import re
 from dataclasses import replace
 from pathlib import Path
 
 import click
-import numpy as np
 
 from mvtools.cli.options import (
     DEPTH,
@@ -20,21 +18,10 @@ from mvtools.cli.options import (
     video_format_options,
 )
 from mvtools.cli.progress import Progress
-from mvtools.color.levels import convert_planes, depth_preview, requantize
-from mvtools.color.space import rgb_to_yuv, yuv_to_rgb
-from mvtools.errors import DataError, UsageError, at_fault
-from mvtools.geometry.depth import (
-    check_depth_range,
-    check_stereo,
-    depth_sign,
-    depth_to_z,
-    disparity_to_z,
-    z_to_depth,
-    z_to_disparity,
-)
+from mvtools.errors import UsageError, at_fault
+from mvtools.geometry.depth import check_depth_range, check_stereo
 from mvtools.io.cameras import read_cameras, write_cameras
-from mvtools.io.images import IMAGE_EXTENSIONS, read_image, write_image
-from mvtools.io.inputs import frame_range, open_input_video
+from mvtools.io.images import IMAGE_EXTENSIONS
 from mvtools.io.json_cameras import (
     DEFAULT_FPS,
     read_json_cameras,
@@ -42,7 +29,15 @@ from mvtools.io.json_cameras import (
     write_json_cameras,
     write_json_sequence,
 )
-from mvtools.io.yuv import YuvFormat, frame_from_luma, open_writer
+from mvtools.run.convert import (
+    DepthValues,
+    check_frame_pattern,
+    convert_video,
+    depth_video_to_pfm,
+    images_to_video,
+    pfm_to_depth_video,
+    video_to_images,
+)
 
 VIDEO_EXTENSIONS = (".yuv", ".y4m")
 
@@ -167,26 +162,37 @@ def command(
                 key="--from",
             )
         if not out_is_video:
-            _check_frame_pattern(output)
+            check_frame_pattern(output)
+        frames = {
+            "size": size,
+            "pix_fmt": pix_fmt,
+            "start_frame": start_frame,
+            "frame_count": frame_count,
+        }
         if to_quantity is not None:
-            _depth_video_to_pfm(
-                first,
-                size,
-                pix_fmt,
-                start_frame,
-                frame_count,
-                output,
-                to_quantity,
-                _range(znear, zfar),
-                focal,
-                baseline,
-            )
+            depth_range = _range(znear, zfar)
+            if output.suffix.lower() != ".pfm":
+                raise UsageError("--to writes PFM images (e.g. z_%03d.pfm)", path=output)
+            values = _depth_values(to_quantity, depth_range, focal, baseline)
+            depth_video_to_pfm(first, output, values, **frames)
         elif out_is_video:
-            _video_to_video(
-                first, size, pix_fmt, start_frame, frame_count, output, out_pix_fmt, depth
+            convert_video(
+                first,
+                output,
+                out_pix_fmt=out_pix_fmt,
+                depth=depth,
+                progress=Progress(None, "frames converted"),
+                **frames,
             )
         else:
-            _video_to_images(first, size, pix_fmt, start_frame, frame_count, output, depth, preview)
+            video_to_images(
+                first,
+                output,
+                depth=depth,
+                preview=preview,
+                progress=Progress(None, "frames written"),
+                **frames,
+            )
         return
     if not out_is_video:
         raise UsageError("images convert to a .yuv or .y4m video", path=output)
@@ -198,17 +204,10 @@ def command(
             key="--to",
         )
     if from_quantity is not None:
-        _pfm_to_depth_video(
-            inputs,
-            output,
-            out_pix_fmt or "yuv420p",
-            from_quantity,
-            _range(znear, zfar),
-            focal,
-            baseline,
-        )
+        values = _depth_values(from_quantity, _range(znear, zfar), focal, baseline)
+        pfm_to_depth_video(inputs, output, values, out_pix_fmt=out_pix_fmt or "yuv420p")
     else:
-        _images_to_video(inputs, output, out_pix_fmt or "yuv420p")
+        images_to_video(inputs, output, out_pix_fmt=out_pix_fmt or "yuv420p")
 
 
 def _convert_cameras(
@@ -259,176 +258,11 @@ def _range(znear, zfar) -> tuple[float, float]:
     return znear, zfar
 
 
-def _stereo(focal, baseline) -> tuple[float, float]:
-    if focal is None or baseline is None:
-        raise UsageError("--focal and --baseline are needed for disparities")
-    with at_fault(UsageError, key="--focal/--baseline"):
-        check_stereo(focal, baseline)
-    return focal, baseline
-
-
-def _samples_of(path, frame: int | None = None):
-    """The algorithm layer's ValueErrors on the samples of ``path`` (the options were
-    checked before) are the file's fault: a DataError naming it and the frame."""
-    return at_fault(DataError, path=path, prefix="" if frame is None else f"frame {frame}: ")
-
-
-# One printf field of an integer (frame_%03d.png, f%x.png); %% is a % sign.
-_FRAME_FIELD = re.compile(r"%[-#0 +]*\d*(?:\.\d+)?[diouxX]")
-
-
-def _check_frame_pattern(pattern: Path) -> None:
-    """A name with a ``%`` must hold one frame number field, so that every frame gets
-    a name of its own (checked before any frame is read or written)."""
-    if "%" not in pattern.name:
-        return
-    name = pattern.name.replace("%%", "")
-    if len(_FRAME_FIELD.findall(name)) != 1 or "%" in _FRAME_FIELD.sub("", name):
-        raise UsageError(
-            "a numbered output name holds one frame number field such as %03d "
-            "(and %% for a % sign)",
-            path=pattern,
-            key="-o",
-        )
-
-
-def _frame_name(pattern: Path, index: int, count: int) -> Path:
-    if "%" in pattern.name:
-        return pattern.with_name(pattern.name % index)
-    if count > 1:
-        raise UsageError(
-            "several frames need a numbered output name such as frame_%03d.png",
-            path=pattern,
-            key="-o",
-        )
-    return pattern
-
-
-def _video_to_video(path, size, pix_fmt, start, count, output, out_pix_fmt, depth):
-    with open_input_video(path, size, pix_fmt) as video:
-        source = video.format
-        target = (
-            YuvFormat.from_pix_fmt(source.width, source.height, out_pix_fmt)
-            if out_pix_fmt
-            else source
-        )
-        frames = frame_range([video], start, count)
-        progress = Progress(len(frames), "frames converted")
-        with open_writer(output, target, frame_rate=video.frame_rate) as writer:
-            for index in frames:
-                with _samples_of(path, index):
-                    planes = convert_planes(
-                        video.read(index),
-                        bits=source.bits,
-                        to_chroma=target.chroma,
-                        to_bits=target.bits,
-                        depth=depth,
-                    )
-                writer.write(planes)
-                progress.advance()
-
-
-def _video_to_images(path, size, pix_fmt, start, count, output, depth, preview):
-    with open_input_video(path, size, pix_fmt) as video:
-        bits = video.format.bits
-        frames = frame_range([video], start, count)
-        progress = Progress(len(frames), "frames written")
-        for index in frames:
-            planes = video.read(index)
-            if depth:
-                image = depth_preview(planes[0], bits=bits) if preview else np.array(planes[0])
-            else:
-                image = yuv_to_rgb(planes, bits=bits)
-                if preview and bits > 8:
-                    image = requantize(image, bits, 8)
-            write_image(_frame_name(output, index, len(frames)), image)
-            progress.advance()
-
-
-def _depth_video_to_pfm(
-    path, size, pix_fmt, start, count, output, quantity, depth_range, focal, baseline
-):
-    if output.suffix.lower() != ".pfm":
-        raise UsageError("--to writes PFM images (e.g. z_%03d.pfm)", path=output)
+def _depth_values(quantity, depth_range, focal, baseline) -> DepthValues:
+    """What the PFM images hold; disparities need --focal and --baseline."""
     if quantity == "disparity":
-        focal, baseline = _stereo(focal, baseline)
-    with open_input_video(path, size, pix_fmt) as video:
-        frames = frame_range([video], start, count)
-        for index in frames:
-            with _samples_of(path, index):
-                # z signed as the file codes it; disparity positive, as in front of the camera
-                z = depth_to_z(video.read(index)[0], *depth_range, bits=video.format.bits)
-                values = z if quantity == "z" else z_to_disparity(np.abs(z), focal, baseline)
-            write_image(_frame_name(output, index, len(frames)), values.astype(np.float32))
-
-
-def _pfm_to_depth_video(inputs, output, out_pix_fmt, quantity, depth_range, focal, baseline):
-    if quantity == "disparity":
-        focal, baseline = _stereo(focal, baseline)
-    target = None
-    with _video_writer_for_images(output) as writer:
-        for path in inputs:
-            values = read_image(path)
-            if values.ndim != 2 or values.dtype.kind != "f":
-                raise DataError("expected a one-channel PFM of z or disparity", path=path)
-            if target is None:
-                target = YuvFormat.from_pix_fmt(values.shape[1], values.shape[0], out_pix_fmt)
-                writer.start(target)
-            _check_size(values.shape, target, path)
-            with _samples_of(path):
-                z = (
-                    values
-                    if quantity == "z"
-                    else (depth_sign(*depth_range) * disparity_to_z(values, focal, baseline))
-                )
-                luma = z_to_depth(z, *depth_range, bits=target.bits)
-            writer.write(frame_from_luma(target, luma))
-
-
-def _images_to_video(inputs, output, out_pix_fmt):
-    target = None
-    with _video_writer_for_images(output) as writer:
-        for path in inputs:
-            image = read_image(path)
-            if target is None:
-                target = YuvFormat.from_pix_fmt(image.shape[1], image.shape[0], out_pix_fmt)
-                writer.start(target)
-            _check_size(image.shape, target, path)
-            if image.ndim == 2:
-                bits = 8 if image.dtype == np.uint8 else 16
-                writer.write(
-                    convert_planes(
-                        (image,), bits=bits, to_chroma=target.chroma, to_bits=target.bits
-                    )
-                )
-            else:
-                writer.write(rgb_to_yuv(image, chroma=target.chroma, bits=target.bits))
-
-
-def _check_size(shape, target: YuvFormat, path) -> None:
-    if (shape[1], shape[0]) != target.size:
-        raise DataError(
-            f"image is {shape[1]}x{shape[0]}, the first one {target.width}x{target.height}",
-            path=path,
-        )
-
-
-class _video_writer_for_images:
-    """A video writer opened when the first image tells the size; removed on error."""
-
-    def __init__(self, path: Path):
-        self.path = path
-        self.writer = None
-
-    def start(self, fmt: YuvFormat) -> None:
-        self.writer = open_writer(self.path, fmt)
-
-    def write(self, planes) -> None:
-        self.writer.write(planes)
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, exc_type, exc, tb):
-        if self.writer is not None:
-            self.writer.__exit__(exc_type, exc, tb)
+        if focal is None or baseline is None:
+            raise UsageError("--focal and --baseline are needed for disparities")
+        with at_fault(UsageError, key="--focal/--baseline"):
+            check_stereo(focal, baseline)
+    return DepthValues(quantity, depth_range, focal, baseline)

@@ -9,7 +9,6 @@ code ``v`` of channel ``c``, for ``L = 2**bits`` codes.
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import gaussian_filter1d
 
 __all__ = [
     "LUT_METHODS",
@@ -96,6 +95,8 @@ def _table_from_points(
             slope = 1.0
         table[beyond] = np.interp(end, codes, monotonic) + max(slope, 0.0) * (grid[beyond] - end)
     if smoothing > 0:
+        from scipy.ndimage import gaussian_filter1d  # loads SciPy when a table is fitted
+
         table = gaussian_filter1d(table, smoothing, mode="nearest")
     return np.clip(table, 0.0, levels - 1.0)
 

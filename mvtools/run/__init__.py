@@ -20,6 +20,16 @@ _EXPORTS: dict[str, str] = {
     "synthesize_video": "synthesize",
     "synthesize_config": "synthesize",
     "ReferenceVideo": "synthesize",
+    "correct_colours": "colorcorrect",
+    "ColourCorrectionOptions": "colorcorrect",
+    "ColourCorrection": "colorcorrect",
+    "ViewCorrection": "colorcorrect",
+    "convert_video": "convert",
+    "video_to_images": "convert",
+    "depth_video_to_pfm": "convert",
+    "pfm_to_depth_video": "convert",
+    "images_to_video": "convert",
+    "DepthValues": "convert",
 }
 
 __all__ = sorted(_EXPORTS)
