@@ -21,6 +21,7 @@ from mvtools.cli.progress import Progress
 from mvtools.errors import UsageError, at_fault
 from mvtools.geometry.depth import check_depth_range, check_stereo
 from mvtools.io.cameras import read_cameras, write_cameras
+from mvtools.io.captures import VIDEO_EXTENSIONS
 from mvtools.io.images import IMAGE_EXTENSIONS
 from mvtools.io.json_cameras import (
     DEFAULT_FPS,
@@ -38,8 +39,6 @@ from mvtools.run.convert import (
     pfm_to_depth_video,
     video_to_images,
 )
-
-VIDEO_EXTENSIONS = (".yuv", ".y4m")
 
 
 @click.command(name="convert", cls=ProgramCommand)
