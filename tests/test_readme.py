@@ -15,8 +15,9 @@ An example that reads the demo's outputs first runs ``make demo`` in the reposit
 the demo has not run (CI runs it before the tests); one that reads a file of
 ``make published`` first has ``make`` bring that file up to date. An example that names
 published material is skipped when the material is absent, or fails under
-``MVTOOLS_REQUIRE_DATA=1``. A block preceded by ``<!-- readme-test: skip (reason) -->``
-is not run: the few examples that take minutes, need material nobody ships, or are the
+``MVTOOLS_REQUIRE_DATA=1``. A python block written as an interactive session (``>>>``)
+runs as a doctest, its printed results checked. A block whose last line before the opening
+fence is ``<!-- readme-test: skip (reason) -->`` is not run: the few examples that take minutes, need material nobody ships, or are the
 test suite itself.
 """
 
@@ -40,6 +41,7 @@ FENCE = re.compile(r"^```(\w*)\s*$")
 SKIP = re.compile(r"^<!--\s*readme-test:\s*skip\s*\((.+)\)\s*-->$")
 ASSIGNMENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*=\S*$")
 PUBLISHED = re.compile(r"\.\./shared/data/([^\s\"'$]*)")
+DOCTEST_PROMPT = re.compile(r"^>>> ", re.MULTILINE)
 MADE = re.compile(r"\bbuild/(demo|published)/([^\s\"'$*?\[{]*)")
 # the demo's last output: the demo has run when it is there
 DEMO_DONE = REPO_ROOT / "build" / "demo" / "report.html"
@@ -122,6 +124,45 @@ def readme_examples(text: str) -> list[Example]:
 EXAMPLES = readme_examples(README.read_text())
 
 
+HAND_WRITTEN = """\
+Text.
+
+```sh
+L=sample_data/line
+# a comment
+mvtools inspect $L/cameras.txt \\
+    $L/synthesize_cam2.cfg
+mvtools bitrate --views 9
+```
+
+<!-- readme-test: skip (too long) -->
+```python
+import mvtools
+```
+
+```
+not an example
+```
+"""
+
+
+def test_examples_are_read_with_their_assignments_continuations_and_skips():
+    inspect, bitrate, python = readme_examples(HAND_WRITTEN)
+    assert inspect == Example(
+        6,
+        "sh",
+        "L=sample_data/line",
+        "mvtools inspect $L/cameras.txt \\\n    $L/synthesize_cam2.cfg",
+        None,
+    )
+    assert (bitrate.line, bitrate.prelude, bitrate.text) == (
+        8,
+        "L=sample_data/line",
+        "mvtools bitrate --views 9",
+    )
+    assert python == Example(13, "python", "", "import mvtools", "too long")
+
+
 def test_the_readme_has_its_examples():
     """The parser finds the README's examples: a change that hid them would pass silently."""
     commands = [example.text.split()[0] for example in EXAMPLES if example.language == "sh"]
@@ -183,7 +224,12 @@ def test_readme_example_runs(example: Example, stand_in_root: Path):
         parts = [part for part in fixed.split("/") if part]
         shared_data(*(parts[:-1] if globbed else parts))
     bring_made_inputs_up_to_date(example)
-    if example.language == "python":
+    if example.language == "python" and DOCTEST_PROMPT.search(example.text):
+        # an interactive session: its printed results are checked too
+        session = stand_in_root / f"readme_line{example.line}.txt"
+        session.write_text(example.text + "\n")
+        command = [sys.executable, "-m", "doctest", str(session)]
+    elif example.language == "python":
         command = [sys.executable, "-c", example.text]
     else:
         script = "set -euo pipefail\n" + example.prelude + "\n" + example.text
