@@ -13,7 +13,6 @@ from pathlib import Path
 import click
 import numpy as np
 
-from mvtools.cli.evaluate import score_videos
 from mvtools.cli.options import (
     POSITIVE,
     ProgramCommand,
@@ -33,6 +32,7 @@ from mvtools.io.yuv import YuvFormat, open_video, open_writer
 from mvtools.metrics import bd_psnr, bd_rate
 from mvtools.pack import plan_layout
 from mvtools.params import VsrsParams, param_specs
+from mvtools.run.evaluate import score_videos
 
 LOG = logging.getLogger("mvtools")
 MODES = ("simulcast", "packed")

@@ -2,41 +2,48 @@
 Bjontegaard deltas.
 
 Arrays in, numbers out: no files here (``mvtools.io.middlebury`` reads the
-Middlebury ground truth).
+Middlebury ground truth). Names are imported from their modules on first use, so
+``import mvtools.metrics`` loads neither OpenCV nor SciPy.
 """
 
-from mvtools.metrics.bjontegaard import bd_psnr, bd_rate
-from mvtools.metrics.disparity import (
-    ERROR_BIN_EDGES,
-    DisparityScore,
-    check_thresholds,
-    error_histogram,
-    known_ground_truth,
-    nonoccluded_from_other_view,
-    score_disparity,
-)
-from mvtools.metrics.ivpsnr import global_color_shift, iv_psnr
-from mvtools.metrics.psnr import YUV_PSNR_WEIGHTS, plane_psnr, psnr, yuv_psnr
-from mvtools.metrics.ssim import ssim
-from mvtools.metrics.video import VIDEO_METRICS, frame_scores
+from __future__ import annotations
 
-__all__ = [
-    "ERROR_BIN_EDGES",
-    "VIDEO_METRICS",
-    "YUV_PSNR_WEIGHTS",
-    "DisparityScore",
-    "bd_psnr",
-    "bd_rate",
-    "check_thresholds",
-    "error_histogram",
-    "frame_scores",
-    "global_color_shift",
-    "iv_psnr",
-    "known_ground_truth",
-    "nonoccluded_from_other_view",
-    "plane_psnr",
-    "psnr",
-    "score_disparity",
-    "ssim",
-    "yuv_psnr",
-]
+import importlib
+
+# ``psnr`` and ``ssim`` name both a module of this package and its function: the
+# functions are bound here, as importing the module would otherwise leave the module
+# under the name (both modules load OpenCV only when they compute).
+from mvtools.metrics.psnr import psnr as psnr
+from mvtools.metrics.ssim import ssim as ssim
+
+#: Each exported name and the module of this package that defines it.
+_EXPORTS: dict[str, str] = {
+    "bd_psnr": "bjontegaard",
+    "bd_rate": "bjontegaard",
+    "ERROR_BIN_EDGES": "disparity",
+    "DisparityScore": "disparity",
+    "check_thresholds": "disparity",
+    "error_histogram": "disparity",
+    "known_ground_truth": "disparity",
+    "nonoccluded_from_other_view": "disparity",
+    "score_disparity": "disparity",
+    "global_color_shift": "ivpsnr",
+    "iv_psnr": "ivpsnr",
+    "YUV_PSNR_WEIGHTS": "psnr",
+    "plane_psnr": "psnr",
+    "yuv_psnr": "psnr",
+    "VIDEO_METRICS": "video",
+    "frame_scores": "video",
+}
+
+__all__ = sorted([*_EXPORTS, "psnr", "ssim"])
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+
+
+def __dir__() -> list[str]:
+    return __all__

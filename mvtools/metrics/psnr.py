@@ -9,7 +9,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-import cv2
 import numpy as np
 
 # MPEG convention for a single YUV-PSNR figure (e.g. the VVC/HEVC common test
@@ -72,8 +71,11 @@ def plane_pair(ref, test, max_value: float) -> tuple[np.ndarray, np.ndarray]:
 def _sum_squared_difference(ref: np.ndarray, test: np.ndarray, mask: np.ndarray | None) -> float:
     # Video samples (uint8/uint16 of one dtype) go through OpenCV's vectorised norm, a
     # hundred times faster than numpy here; it sums in float64 like the fallback (the two
-    # differ by a few ulps, far below what a PSNR shows).
+    # differ by a few ulps, far below what a PSNR shows). Imported here, so that
+    # importing the metrics does not load OpenCV.
     if ref.dtype == test.dtype and ref.dtype in (np.uint8, np.uint16):
+        import cv2
+
         cv_mask = None if mask is None else mask.view(np.uint8)
         return float(
             cv2.norm(

@@ -7,7 +7,6 @@ Image Processing 13(4):600-612, 2004.
 
 from __future__ import annotations
 
-import cv2
 import numpy as np
 
 from mvtools.metrics.psnr import plane_pair
@@ -51,6 +50,9 @@ def ssim(ref: np.ndarray, test: np.ndarray, *, max_value: float) -> float:
             f"SSIM needs planes of at least {WINDOW_SIZE}x{WINDOW_SIZE}, "
             f"got {ref.shape[1]}x{ref.shape[0]}"
         )
+    # imported here, so that importing the metrics does not load OpenCV
+    import cv2
+
     x = ref.astype(np.float64)
     y = test.astype(np.float64)
     kernel = cv2.getGaussianKernel(WINDOW_SIZE, WINDOW_SIGMA, cv2.CV_64F)
