@@ -13,8 +13,9 @@ from program_runner import assert_one_line_error, run
 from program_runner import invoke as invoke_program
 from shared_data import shared_data
 
-from mvtools.cli.estimate_depth import command, disparity_png_values
+from mvtools.cli.estimate_depth import command
 from mvtools.io.images import read_image, write_image
+from mvtools.run.depth import disparity_png_values
 
 #: Bad 1.0 over all known pixels of Tsukuba. Measured with the defaults (bp, integer
 #: levels): 2.59 % (PFM and PNG); winner-takes-all on absolute RGB differences: 48.9 %.
@@ -68,7 +69,7 @@ def known_estimate(monkeypatch):
         height, width = left.shape[:2]
         return np.tile(estimate, (height // 2, width // 4))
 
-    monkeypatch.setattr("mvtools.cli.estimate_depth.estimate_disparity", estimate_disparity)
+    monkeypatch.setattr("mvtools.depth.stereo.estimate_disparity", estimate_disparity)
     return estimate, calls
 
 

@@ -24,6 +24,7 @@ _EXPORTS: dict[str, str] = {
     "estimate_disparity": "stereo",
     "DersEstimator": "ders",
     "Neighbour": "ders",
+    "DepthOptions": "options",
 }
 
 __all__ = sorted(_EXPORTS)
