@@ -3,9 +3,6 @@
 from __future__ import annotations
 
 import itertools
-import json
-import logging
-from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -14,27 +11,22 @@ import numpy as np
 
 from mvtools.cli.options import POSITIVE, ProgramCommand, program, video_format_options
 from mvtools.cli.progress import Progress
-from mvtools.errors import DataError, UsageError
-from mvtools.geometry.lens import distort_normalized
-from mvtools.io.atomic import atomic_output, output_folder_exists
-from mvtools.io.cameras import write_cameras
+from mvtools.io.atomic import output_folder_exists
 from mvtools.io.captures import open_captures
 from mvtools.io.guard import check_outputs
-from mvtools.io.images import write_image
 from mvtools.io.inputs import open_input_video
-from mvtools.io.json_cameras import write_json_cameras
+from mvtools.run.calibrate import (
+    REPORT_FILE,
+    CalibrateOptions,
+    calibrate_rig,
+    camera_names,
+    corner_picture,
+    write_rig_cameras,
+    write_rig_report,
+)
 
 if TYPE_CHECKING:
     from mvtools.calibration import RigCalibration
-
-LOG = logging.getLogger("mvtools")
-
-# Tangential terms that move no pixel by more than this (about the RMS error of a good
-# calibration) are not worth a warning when the MPEG file drops them.
-_NEGLIGIBLE_PIXELS = 0.25
-
-#: The report's file in the --report folder, beside the corner pictures.
-_REPORT = "report.json"
 
 
 def _parse_corners(ctx, param, value):
@@ -145,35 +137,30 @@ def command(
     sources = [
         open_captures(spec, lambda path: open_input_video(path, size, pix_fmt)) for spec in captures
     ]
-    # detection and the rig's fit load OpenCV and SciPy: for a run, not for --help
-    from mvtools.calibration import Board, calibrate_rig
-
     try:
-        camera_names = _camera_names(sources, names)
-        _check_outputs(output, json_output, report_dir, camera_names)
-        reference_index = _reference_index(camera_names, reference)
-        board = Board(inner_corners=inner_corners, square_size=square_size)
-        image_points, sizes, first_images = _detect(sources, camera_names, board)
-        where = [[source.where(index) for index in range(len(source))] for source in sources]
+        rig_names = camera_names(
+            sources, None if names is None else [name.strip() for name in names.split(",")]
+        )
+        _check_outputs(output, json_output, report_dir, rig_names)
+        # the board's detection loads OpenCV: for a run, not for --help
+        from mvtools.calibration import Board
+
+        rig = calibrate_rig(
+            sources,
+            Board(inner_corners=inner_corners, square_size=square_size),
+            names=rig_names,
+            options=CalibrateOptions(
+                reference=reference, tangential=tangential, max_capture_rms=max_capture_rms
+            ),
+            progress=Progress(None, "captures searched"),
+        )
     finally:
         for source in sources:
             source.__exit__(None, None, None)
-    result = calibrate_rig(
-        image_points,
-        board,
-        sizes,
-        names=camera_names,
-        reference=reference_index,
-        tangential=tangential,
-        max_capture_rms=max_capture_rms,
-        capture_names=_instant_names([source.labels for source in sources]),
-    )
-    for (camera, capture), reason in sorted(result.rejected.items()):
-        LOG.info("%s: %s: %s", camera_names[camera], where[camera][capture], reason)
-    _write_cameras(result, output, json_output)
+    write_rig_cameras(rig, output, json_output)
     if report_dir is not None:
-        _write_report(Path(report_dir), result, where, image_points, first_images)
-    click.echo(_summary(result))
+        write_rig_report(rig, report_dir)
+    click.echo(_summary(rig.calibration))
 
 
 def _check_outputs(
@@ -189,204 +176,11 @@ def _check_outputs(
         output_folder_exists(path.parent)
     if report_dir is not None:
         folder = Path(report_dir)
-        named.append((folder / _REPORT, "report (--report)"))
+        named.append((folder / REPORT_FILE, "report (--report)"))
         named += [
-            (_corner_picture(folder, name), f"corner picture of {name} (--report)")
-            for name in names
+            (corner_picture(folder, name), f"corner picture of {name} (--report)") for name in names
         ]
     check_outputs(named)
-
-
-def _camera_names(sources, names: str | None) -> list[str]:
-    if names is not None:
-        given = [name.strip() for name in names.split(",")]
-        if len(given) != len(sources):
-            raise UsageError(f"--names gives {len(given)} names for {len(sources)} cameras")
-    else:
-        given = [source.name for source in sources]
-    if len(set(given)) != len(given):
-        raise UsageError(f"camera names {', '.join(given)} are not distinct; give --names")
-    counts = {len(source) for source in sources}
-    if len(counts) > 1:
-        listed = ", ".join(f"{name} {len(source)}" for name, source in zip(given, sources))
-        raise UsageError(
-            f"the cameras have different numbers of captures ({listed}); "
-            "captures are matched by their order, one per instant"
-        )
-    return given
-
-
-def _instant_names(labels: list[list[str]]) -> list[str]:
-    """Names of the capture instants in messages: the file names where every camera uses
-    the same ones (cam0/capture03.png, cam1/capture03.png), else the 1-based order."""
-    if all(camera_labels == labels[0] for camera_labels in labels):
-        return list(labels[0])
-    return [f"#{index + 1}" for index in range(len(labels[0]))]
-
-
-def _reference_index(names: list[str], reference: str | None) -> int:
-    if reference is None:
-        return 0
-    if reference not in names:
-        raise UsageError(f"--reference {reference}: no such camera (cameras: {', '.join(names)})")
-    return names.index(reference)
-
-
-def _detect(sources, names, board):
-    """The board's detection in every capture, image sizes, and each camera's first
-    capture with a board (for the report)."""
-    from mvtools.calibration import detect_board
-
-    progress = Progress(sum(len(source) for source in sources), "captures searched")
-    image_points, sizes, first_images = [], [], []
-    for name, source in zip(names, sources):
-        points, size, first = [], None, None
-        for index in range(len(source)):
-            image = source.read(index)
-            shape = (image.shape[1], image.shape[0])
-            if size is None:
-                size = shape
-            elif shape != size:
-                raise DataError(
-                    f"capture is {shape[0]}x{shape[1]}, the camera's earlier "
-                    f"captures {size[0]}x{size[1]}",
-                    path=source.where(index),
-                    key=name,
-                )
-            detection = detect_board(image, board)
-            if detection.corners is not None and first is None:
-                first = image
-            points.append(detection)
-            progress.advance()
-        found = sum(detection.corners is not None for detection in points)
-        LOG.info("%s: board found in %d of %d captures", name, found, len(points))
-        image_points.append(points)
-        sizes.append(size)
-        first_images.append(first)
-    return image_points, sizes, first_images
-
-
-def _write_cameras(result: RigCalibration, output: str, json_output: str | None) -> None:
-    for camera in result.cameras:
-        lost = _tangential_pixels(camera)
-        if lost > _NEGLIGIBLE_PIXELS:
-            LOG.warning(
-                "%s: the MPEG camera file cannot store the tangential distortion "
-                "P1 %.3g, P2 %.3g (up to %.2f px in the picture); --no-tangential "
-                "fits a model the file holds exactly",
-                camera.name,
-                camera.distortion[2],
-                camera.distortion[3],
-                lost,
-            )
-    stored = [_with_distortion(camera, camera.distortion[:2]) for camera in result.cameras]
-    write_cameras(output, stored)
-    if json_output is not None:
-        if any(np.any(camera.distortion != 0) for camera in result.cameras):
-            LOG.warning(
-                "%s: MPEG-I JSON has no lens distortion: it describes the cameras "
-                "after `mvtools rectify` has removed it",
-                json_output,
-            )
-        write_json_cameras(
-            json_output, [_with_distortion(camera, np.zeros(2)) for camera in result.cameras]
-        )
-
-
-def _with_distortion(camera, distortion):
-    return replace(camera, distortion=np.array(distortion, dtype=np.float64))
-
-
-def _tangential_pixels(camera) -> float:
-    """Largest displacement in pixels that P1, P2 cause over the picture's border."""
-    if camera.distortion.size <= 2 or not np.any(camera.distortion[2:]):
-        return 0.0
-    width, height = camera.size
-    u = np.concatenate(
-        [
-            np.linspace(0, width - 1, 64),
-            np.linspace(0, width - 1, 64),
-            np.zeros(64),
-            np.full(64, width - 1.0),
-        ]
-    )
-    v = np.concatenate(
-        [
-            np.zeros(64),
-            np.full(64, height - 1.0),
-            np.linspace(0, height - 1, 64),
-            np.linspace(0, height - 1, 64),
-        ]
-    )
-    x, y = (u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy
-    full = np.stack(distort_normalized(x, y, camera.distortion))
-    radial = np.stack(distort_normalized(x, y, camera.distortion[:2]))
-    shift = (full - radial) * np.array([[camera.fx], [camera.fy]])
-    return float(np.max(np.hypot(*shift)))
-
-
-def _report(result: RigCalibration, where) -> dict:
-    cameras = []
-    for index, camera in enumerate(result.cameras):
-        used = np.flatnonzero(result.used[index])
-        cameras.append(
-            {
-                "name": camera.name,
-                "size": list(camera.size),
-                "K": camera.K.tolist(),
-                "distortion": {
-                    "K1": camera.distortion[0],
-                    "K2": camera.distortion[1],
-                    "P1": camera.distortion[2] if camera.distortion.size > 2 else 0.0,
-                    "P2": camera.distortion[3] if camera.distortion.size > 3 else 0.0,
-                },
-                "R": camera.R.tolist(),
-                "t": camera.t.tolist(),
-                "rms_px": float(result.rms[index]),
-                "intrinsic_rms_px": float(result.intrinsic_rms[index]),
-                "captures_used": [where[index][capture] for capture in used],
-                "capture_rms_px": {
-                    where[index][capture]: float(result.capture_rms[index, capture])
-                    for capture in used
-                },
-                "captures_rejected": {
-                    where[camera_index][capture]: reason
-                    for (camera_index, capture), reason in sorted(result.rejected.items())
-                    if camera_index == index
-                },
-            }
-        )
-    names = [camera.name for camera in result.cameras]
-    neighbours = [f"{a}-{b}" for a, b in itertools.pairwise(names)]
-    return {
-        "cameras": cameras,
-        "baselines_m": dict(zip(neighbours, result.baselines().tolist())),
-        "axis_angles_deg": dict(zip(neighbours, result.axis_angles().tolist())),
-    }
-
-
-def _write_report(folder: Path, result: RigCalibration, where, image_points, first_images):
-    from mvtools.calibration.drawing import draw_corners
-
-    folder.mkdir(parents=True, exist_ok=True)
-    with atomic_output(folder / _REPORT, "w") as handle:
-        json.dump(_report(result, where), handle, indent=2)
-        handle.write("\n")
-    for index, camera in enumerate(result.cameras):
-        if first_images[index] is None:
-            continue
-        used = np.flatnonzero(result.used[index])
-        detected = [image_points[index][capture].corners for capture in used]
-        reprojected = [result.reprojected[index, capture] for capture in used]
-        write_image(
-            _corner_picture(folder, camera.name),
-            draw_corners(first_images[index], detected, reprojected),
-        )
-
-
-def _corner_picture(folder: Path, name: str) -> Path:
-    """The report's picture of camera ``name``'s detected corners."""
-    return folder / f"{name}_corners.png"
 
 
 def _summary(result: RigCalibration) -> str:

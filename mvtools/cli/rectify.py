@@ -2,13 +2,9 @@
 
 from __future__ import annotations
 
-import logging
-from dataclasses import replace
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import click
-import numpy as np
 
 from mvtools.cli.options import (
     DEPTH,
@@ -21,25 +17,14 @@ from mvtools.cli.options import (
     video_format_options,
 )
 from mvtools.cli.progress import Progress
-from mvtools.errors import DataError, UsageError, at_fault
-from mvtools.geometry.camera import turn_world
-from mvtools.geometry.depth import DepthCoding, check_depth_range
-from mvtools.io.atomic import output_folder_exists
-from mvtools.io.cameras import get_camera, write_cameras
-from mvtools.io.chroma import CHROMA_SUBSAMPLING
-from mvtools.io.guard import check_output
-from mvtools.io.inputs import frame_range, open_input_video
-from mvtools.io.json_cameras import read_camera_file, write_json_cameras
-from mvtools.io.yuv import open_writer
+from mvtools.errors import UsageError, at_fault
+from mvtools.geometry.depth import check_depth_range
+from mvtools.io.cameras import get_camera
+from mvtools.io.json_cameras import read_camera_file
+from mvtools.run.rectify import RectifyOptions, rectify_videos
 
 if TYPE_CHECKING:
     from mvtools.rectification import Rectification
-
-LOG = logging.getLogger("mvtools")
-
-# Centres further than this fraction of the mean neighbour distance off the common line
-# make the 1D modes of synthesize and estimate-depth visibly approximate.
-_OFF_LINE_WARNING = 0.01
 
 
 @click.command(name="rectify", cls=ProgramCommand)
@@ -170,229 +155,41 @@ def command(
     names = list(camera_names) or list(dict.fromkeys(name for name, _ in (*textures, *depths)))
     if not names:
         raise UsageError("name the cameras to rectify with --camera, --texture or --depth")
-    if virtual_count and undistort_only:
-        raise UsageError("--virtual cameras go between rectified cameras, not with --undistort")
-    if len(names) < 2 and not undistort_only:
-        raise UsageError(
-            f"rectifying needs at least two cameras (a pair or a linear array), "
-            f"got {', '.join(names)}; --undistort works on one"
-        )
-    videos = {
-        "texture": _videos_by_camera(textures, names, "--texture"),
-        "depth": _videos_by_camera(depths, names, "--depth"),
-    }
-    selected = [
-        _sized_camera(
-            get_camera(cameras, name, path=camera_file), videos, camera_size, size, pix_fmt
-        )
-        for name in names
-    ]
-    if len({camera.size for camera in selected}) > 1:
-        listed = ", ".join(
-            f"{camera.name} {camera.size[0]}x{camera.size[1]}" for camera in selected
-        )
-        raise DataError(
-            f"the cameras differ in picture size ({listed}); rectified cameras share one"
-        )
-    index_of = {name: index for index, name in enumerate(names)}
-    depth_ranges = {
-        name: _depth_range_of(selected[index_of[name]], depth_range, path)
-        for name, path in videos["depth"].items()
-    }
-    out = Path(out_dir)
-    camera_target = Path(cameras_out) if cameras_out else out / "cameras.txt"
-    targets = _outputs(videos, out, camera_target)
-    # the rectification's maps and warps load OpenCV: for a run, not for --help
-    from mvtools.rectification import cameras_between, rectify_cameras, undistortion
-
-    with at_fault(DataError, path=camera_file):
-        if undistort_only:
-            result = undistortion(selected, alpha=alpha)
-        else:
-            result = rectify_cameras(selected, alpha=alpha)
-    _log_warps(result, undistort_only)
-    for kind, by_camera in videos.items():
-        for name, path in by_camera.items():
-            index = index_of[name]
-            _rectify_video(
-                Path(path),
-                targets[kind, name],
-                kind,
-                result,
-                index,
-                selected[index],
-                size,
-                pix_fmt,
-                start_frame,
-                frame_count,
-                depth_ranges.get(name),
-            )
-    described = result.cameras
-    if virtual_count:
-        described = described + cameras_between(described, virtual_count)
-    if not (undistort_only or keep_world):
-        described = turn_world(described, described[0].R)
-    out.mkdir(parents=True, exist_ok=True)
-    _write_cameras(camera_target, described)
-    click.echo(_summary(result, undistort_only))
+    options = RectifyOptions(
+        undistort_only=undistort_only,
+        alpha=alpha,
+        virtual_count=virtual_count,
+        keep_world=keep_world,
+        depth_range=tuple(depth_range) if depth_range is not None else None,
+        camera_size=camera_size,
+    )
+    result = rectify_videos(
+        [get_camera(cameras, name, path=camera_file) for name in names],
+        out_dir=out_dir,
+        textures=_videos_by_camera(textures, "--texture"),
+        depths=_videos_by_camera(depths, "--depth"),
+        options=options,
+        cameras_out=cameras_out,
+        size=size,
+        pix_fmt=pix_fmt,
+        start_frame=start_frame,
+        frame_count=frame_count,
+        camera_file=camera_file,
+        video_progress=lambda path: Progress(None, f"{path.name} frames rectified"),
+    )
+    click.echo(_summary(result.rectification))
 
 
-def _videos_by_camera(pairs, names, option) -> dict[str, str]:
+def _videos_by_camera(pairs, option) -> dict[str, str]:
     by_camera: dict[str, str] = {}
     for name, path in pairs:
-        if name not in names:
-            raise UsageError(
-                f"{option} {name} {path}: {name} is not among the cameras "
-                f"rectified ({', '.join(names)})"
-            )
         if name in by_camera:
             raise UsageError(f"{option} given twice for camera {name}")
         by_camera[name] = path
     return by_camera
 
 
-def _outputs(videos, out: Path, camera_target: Path) -> dict[tuple[str, str], Path]:
-    """The rectified video of each (kind, camera): OUT_DIR/its input's name.
-
-    The outputs are refused now, before the work, rather than when each is written,
-    which would leave the videos written before it: no two alike (two inputs of one
-    name in two folders would collide), none an input (the guard's rule; the inputs
-    have been read), and the camera file's folder either OUT_DIR, which is created, or
-    one that exists.
-    """
-    targets: dict[tuple[str, str], Path] = {}
-    written: dict[Path, str] = {}
-    for kind, by_camera in videos.items():
-        for name, path in by_camera.items():
-            target = targets[kind, name] = out / Path(path).name
-            if target.resolve() in written:
-                raise UsageError(
-                    f"{written[target.resolve()]} and {path} would both be "
-                    f"written to {target}: rename one"
-                )
-            written[target.resolve()] = path
-    if camera_target.resolve() in written:
-        raise UsageError(
-            f"the camera file would replace the rectified "
-            f"{written[camera_target.resolve()]}: give another --cameras-out",
-            path=camera_target,
-        )
-    for target in (*targets.values(), camera_target):
-        check_output(target)
-    if camera_target.parent.resolve() != out.resolve():
-        output_folder_exists(camera_target.parent)
-    return targets
-
-
-def _sized_camera(camera, videos, camera_size, size, pix_fmt):
-    """The camera with its picture size: from its videos, else the camera file, else
-    --camera-size."""
-    sizes = {}
-    for by_camera in videos.values():
-        if camera.name in by_camera:
-            with open_input_video(by_camera[camera.name], size, pix_fmt) as video:
-                sizes[by_camera[camera.name]] = video.format.size
-    if len(set(sizes.values())) > 1:
-        listed = ", ".join(f"{path} is {w}x{h}" for path, (w, h) in sizes.items())
-        raise DataError(f"camera {camera.name}: its videos differ in size ({listed})")
-    found = next(iter(sizes.values()), None) or camera.size or camera_size
-    if found is None:
-        raise UsageError(
-            f"camera {camera.name} has no picture size: give its video or --camera-size WxH"
-        )
-    if camera.size is not None and tuple(camera.size) != tuple(found):
-        raise DataError(
-            f"camera {camera.name} is {camera.size[0]}x{camera.size[1]} in the "
-            f"camera file but its video is {found[0]}x{found[1]}"
-        )
-    return replace(camera, size=tuple(found))
-
-
-def _log_warps(result: Rectification, undistort_only: bool) -> None:
-    for camera, valid, kept in zip(result.cameras, result.valid_fraction, result.kept_fraction):
-        LOG.info(
-            "%s: %.1f %% of the output samples the source, %.1f %% of the source is kept",
-            camera.name,
-            100 * valid,
-            100 * kept,
-        )
-    if undistort_only or len(result.cameras) < 2:
-        return
-    centres = np.array([camera.t for camera in result.cameras])
-    spacing = np.mean(np.linalg.norm(np.diff(centres, axis=0), axis=1))
-    for camera, offset in zip(result.cameras, result.centre_offsets):
-        if offset > _OFF_LINE_WARNING * spacing:
-            LOG.warning(
-                "%s: the camera centre is %.3g off the array's line (%.1f %% of the "
-                "camera spacing): rows agree only approximately, depending on depth",
-                camera.name,
-                offset,
-                100 * offset / spacing,
-            )
-
-
-def _write_cameras(path: Path, cameras) -> None:
-    if path.suffix.lower() == ".json":
-        write_json_cameras(path, cameras)
-    else:
-        write_cameras(path, cameras)
-
-
-def _depth_range_of(camera, depth_range, path) -> tuple[float, float]:
-    """--depth-range (checked), else the camera's (the camera file's reader checks it)."""
-    if depth_range is None and camera.depth_range is None:
-        raise UsageError(
-            "the depth map's Znear and Zfar are unknown: give --depth-range ZNEAR ZFAR", path=path
-        )
-    return tuple(depth_range if depth_range is not None else camera.depth_range)
-
-
-def _rectify_video(
-    path: Path,
-    target: Path,
-    kind: str,
-    result: Rectification,
-    index: int,
-    source_camera,
-    size,
-    pix_fmt,
-    start_frame,
-    frame_count,
-    depth_range,
-) -> None:
-    from mvtools.rectification import DepthResampler, chroma_maps, remap_plane
-
-    map_x, map_y = result.maps[index]
-    with open_input_video(path, size, pix_fmt) as video:
-        fmt = video.format
-        frames = frame_range([video], start_frame, frame_count)
-        mid = 1 << (fmt.bits - 1)
-        factors = CHROMA_SUBSAMPLING[fmt.chroma]
-        chroma = chroma_maps(map_x, map_y, subsampling=factors) if factors else None
-        if kind == "depth":
-            coding = DepthCoding(depth_range, fmt.bits)
-            resample = DepthResampler(source_camera, result.cameras[index], map_x, map_y)
-        progress = Progress(len(frames), f"{path.name} frames rectified")
-        # OUT_DIR is made once the run is known to be good: a refused run leaves none
-        target.parent.mkdir(parents=True, exist_ok=True)
-        with open_writer(target, fmt) as writer:
-            for frame in frames:
-                planes = video.read(frame)
-                if kind == "depth":
-                    # Depths along the axes, as positive as the facing cameras' (the
-                    # rectified axis measures them alike: the factor is positive).
-                    luma = coding.values(resample(coding.z(planes[0])))
-                    # Outside the source there is no depth: the farthest value.
-                    rest = [np.full_like(plane, mid) for plane in planes[1:]]
-                else:
-                    black = 16 << (fmt.bits - 8)
-                    luma = remap_plane(planes[0], map_x, map_y, fill=black)
-                    rest = [remap_plane(plane, *chroma, fill=mid) for plane in planes[1:]]
-                writer.write([luma, *rest])
-                progress.advance()
-
-
-def _summary(result: Rectification, undistort_only: bool) -> str:
+def _summary(result: Rectification) -> str:
     lines = [
         f"{'camera':10s} {'fx':>9s} {'cx':>8s} {'cy':>8s} {'valid %':>8s} {'kept %':>7s} "
         f"{'off line':>9s}  homography (undistorted source -> output)"
