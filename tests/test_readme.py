@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -218,6 +219,10 @@ def bring_made_inputs_up_to_date(example: Example) -> None:
 def test_readme_example_runs(example: Example, stand_in_root: Path):
     if example.skip_reason:
         pytest.skip(example.skip_reason)
+    if "mvtools encode" in example.text:
+        missing = [program for program in ("x265", "ffmpeg") if shutil.which(program) is None]
+        if missing:
+            pytest.skip(f"{' and '.join(missing)} not installed (.ci/run installs them)")
     for path in PUBLISHED.findall(example.prelude + "\n" + example.text):
         # the folders before a glob, or the whole path
         fixed, *globbed = re.split(r"[*?\[{]", path)

@@ -16,7 +16,7 @@ HEAVY = ("numba", "cv2", "scipy", "maxflow")
 
 #: Programs whose modules still load a heavy library at import (issue 18, open): each is
 #: expected to fail until it is made lazy, and the mark goes when it passes.
-STILL_HEAVY = {"encode", "estimate_depth", "evaluate"}
+STILL_HEAVY = {"encode"}
 
 
 @pytest.mark.parametrize(
@@ -50,10 +50,7 @@ def test_a_programs_module_imports_no_heavy_library(module):
         ["synthesize", "--help"],
         ["convert", "--help"],
         ["rectify", "--help"],
-        pytest.param(
-            ["estimate-depth", "--help"],
-            marks=pytest.mark.xfail(strict=True, reason="estimate_depth is still heavy (issue 18)"),
-        ),
+        ["estimate-depth", "--help"],
     ],
 )
 def test_help_and_version_import_no_heavy_library(arguments):

@@ -1,56 +1,54 @@
-"""Camera geometry: projection, back-projection, depth conversions, homographies."""
+"""Camera geometry: projection, back-projection, depth conversions, homographies.
 
-from mvtools.geometry.camera import Camera, turn_world
-from mvtools.geometry.depth import (
-    DepthCoding,
-    check_depth_range,
-    depth_sign,
-    depth_to_z,
-    depth_value_to_disparity,
-    ders_depth_range,
-    disparity_1d,
-    disparity_to_depth_value,
-    disparity_to_z,
-    facing_camera,
-    inverse_depth_step,
-    max_depth_value,
-    normalized_disparity,
-    z_to_depth,
-    z_to_disparity,
-)
-from mvtools.geometry.homography import plane_homography
-from mvtools.geometry.projection import (
-    backproject,
-    depth_along_axis,
-    pixel_grid,
-    project,
-    reproject,
-)
-from mvtools.geometry.warp import forward_warp
+Cameras follow VSRS and DERS (:class:`Camera`: ``x_cam = R (X - t)``, looking along +z);
+depth maps store values linear in inverse depth (:class:`DepthCoding`,
+:func:`depth_to_z`, :func:`z_to_depth`), rectified pairs relate disparity and depth by
+``z = f B / d`` (:func:`z_to_disparity`, :func:`disparity_to_z`).
 
-__all__ = [
-    "Camera",
-    "DepthCoding",
-    "backproject",
-    "check_depth_range",
-    "depth_along_axis",
-    "depth_sign",
-    "depth_to_z",
-    "depth_value_to_disparity",
-    "ders_depth_range",
-    "disparity_1d",
-    "disparity_to_depth_value",
-    "disparity_to_z",
-    "facing_camera",
-    "forward_warp",
-    "inverse_depth_step",
-    "max_depth_value",
-    "normalized_disparity",
-    "pixel_grid",
-    "plane_homography",
-    "project",
-    "reproject",
-    "turn_world",
-    "z_to_depth",
-    "z_to_disparity",
-]
+Names are imported from their modules on first use, so ``import mvtools.geometry`` is
+cheap.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+#: Each exported name and the module of this package that defines it.
+_EXPORTS: dict[str, str] = {
+    "Camera": "camera",
+    "turn_world": "camera",
+    "DepthCoding": "depth",
+    "check_depth_range": "depth",
+    "depth_sign": "depth",
+    "depth_to_z": "depth",
+    "depth_value_to_disparity": "depth",
+    "ders_depth_range": "depth",
+    "disparity_1d": "depth",
+    "disparity_to_depth_value": "depth",
+    "disparity_to_z": "depth",
+    "facing_camera": "depth",
+    "inverse_depth_step": "depth",
+    "max_depth_value": "depth",
+    "normalized_disparity": "depth",
+    "z_to_depth": "depth",
+    "z_to_disparity": "depth",
+    "plane_homography": "homography",
+    "backproject": "projection",
+    "depth_along_axis": "projection",
+    "pixel_grid": "projection",
+    "project": "projection",
+    "reproject": "projection",
+    "forward_warp": "warp",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+
+
+def __dir__() -> list[str]:
+    return __all__

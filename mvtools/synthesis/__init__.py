@@ -13,8 +13,37 @@ Data flow of one frame (:class:`mvtools.synthesis.pipeline.Synthesizer`):
 Images inside this package are ``(H, W, 3)`` float32 in the working colour space (YUV
 4:4:4 or RGB, sample values as in the files: 0..255 for 8 bits); depths are float64 along
 the camera axis, ``inf`` where a pixel holds nothing.
+
+Names are imported from their modules on first use, so ``import mvtools.synthesis`` does
+not compile or load the numba kernels.
 """
 
-from mvtools.synthesis.views import ReferenceView, SynthesisOptions, SynthesisResult, WarpedView
+from __future__ import annotations
 
-__all__ = ["ReferenceView", "SynthesisOptions", "SynthesisResult", "WarpedView"]
+import importlib
+
+#: Each exported name and the module of this package that defines it.
+_EXPORTS: dict[str, str] = {
+    "ReferenceView": "views",
+    "SynthesisOptions": "views",
+    "SynthesisResult": "views",
+    "WarpedView": "views",
+    "FILTERS": "views",
+    "PRECISIONS": "views",
+    "HOLE_FILLING": "views",
+    "Synthesizer": "pipeline",
+    "to_working": "working",
+    "from_working": "working",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
+
+
+def __dir__() -> list[str]:
+    return __all__
