@@ -16,7 +16,8 @@ from mvtools.geometry.depth import depth_to_z, inverse_depth_step
 from mvtools.io.cameras import read_cameras
 from mvtools.io.yuv import read_frame
 from mvtools.synthesis.general import GeneralWarper
-from mvtools.synthesis.oned import OneDWarper, TemporalDepthFilter, merge_1d, warp_1d
+from mvtools.synthesis.oned import OneDWarper, merge_1d, warp_1d
+from mvtools.synthesis.temporal import TemporalDepthFilter
 from mvtools.synthesis.views import ReferenceView, WarpedView
 
 SAMPLE_LINE = Path(__file__).resolve().parent.parent / "sample_data" / "line"

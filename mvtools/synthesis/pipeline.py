@@ -34,7 +34,8 @@ from mvtools.synthesis.blend import at_virtual_camera, merge_views, view_weights
 from mvtools.synthesis.boundary import remove_boundary_noise, soften_edges
 from mvtools.synthesis.general import GeneralWarper, ZBuffers
 from mvtools.synthesis.holes import fill_holes
-from mvtools.synthesis.oned import OneDWarper, TemporalDepthFilter, merge_1d
+from mvtools.synthesis.oned import OneDWarper, merge_1d
+from mvtools.synthesis.temporal import TemporalDepthFilter
 from mvtools.synthesis.views import ReferenceView, SynthesisOptions, SynthesisResult, WarpedView
 
 __all__ = ["Synthesizer"]
