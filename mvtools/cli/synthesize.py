@@ -28,12 +28,11 @@ from mvtools.io.config import COMMAND_LINE, ConfigEntry, resolve_output_path
 from mvtools.io.loaded_config import command_line_input, load_config
 from mvtools.params import VsrsParams
 from mvtools.run.synthesize import (
-    DEFAULT_HOLE_FILLING,
     ReferenceFiles,
     depth_coding,
     synthesize_loaded,
 )
-from mvtools.synthesis.views import HOLE_FILLING
+from mvtools.synthesis.views import DEFAULT_HOLE_FILLING, HOLE_FILLING
 
 LOG = logging.getLogger(__name__)
 

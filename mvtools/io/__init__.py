@@ -36,7 +36,7 @@ A two-frame 4:2:0 video written and read back (the name carries the format):
 
 from __future__ import annotations
 
-import importlib
+from mvtools.lazy import attach
 
 #: Each exported name and the module of this package that defines it.
 _EXPORTS: dict[str, str] = {
@@ -69,14 +69,4 @@ _EXPORTS: dict[str, str] = {
     "LoadedConfig": "loaded_config",
 }
 
-__all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    if name not in _EXPORTS:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-
-
-def __dir__() -> list[str]:
-    return __all__
+__getattr__, __dir__, __all__ = attach(__name__, _EXPORTS)

@@ -8,7 +8,7 @@ Middlebury ground truth). Names are imported from their modules on first use, so
 
 from __future__ import annotations
 
-import importlib
+from mvtools.lazy import attach
 
 # ``psnr`` and ``ssim`` name both a module of this package and its function: the
 # functions are bound here, as importing the module would otherwise leave the module
@@ -36,14 +36,4 @@ _EXPORTS: dict[str, str] = {
     "frame_scores": "video",
 }
 
-__all__ = sorted([*_EXPORTS, "psnr", "ssim"])
-
-
-def __getattr__(name: str):
-    if name not in _EXPORTS:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-
-
-def __dir__() -> list[str]:
-    return __all__
+__getattr__, __dir__, __all__ = attach(__name__, _EXPORTS, eager=("psnr", "ssim"))

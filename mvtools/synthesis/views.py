@@ -13,6 +13,13 @@ FILTERS = ("bilinear", "bicubic", "avc6")  # VSRS Filter 0, 1, 2
 PRECISIONS = (1, 2, 4, 8, 16)
 HOLE_FILLING = ("background", "inpaint", "background-diffusion")  # IvsrsInpaint 1, 0, new
 
+#: Hole filling of the library and of the program with ``IvsrsInpaint 1`` (VSRS's
+#: default, depth-aware filling from the background side) or nothing said: the best
+#: background-side method measured on Cones (see the README). ``IvsrsInpaint 0`` is plain
+#: inpainting; ``--hole-filling`` chooses any method, VSRS's own row rule ("background")
+#: included.
+DEFAULT_HOLE_FILLING = "background-diffusion"
+
 
 @dataclass(eq=False)
 class ReferenceView:
@@ -75,7 +82,7 @@ class SynthesisOptions:
     depth_type: int = 0
     view_blending: bool = False
     depth_blend_difference: float = 5.0
-    hole_filling: str = "background"
+    hole_filling: str = DEFAULT_HOLE_FILLING
     boundary_noise_removal: bool = False
     edge_softening: bool = True
     # 1D mode
