@@ -11,14 +11,9 @@ from shared_data import shared_data
 
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
 from mvtools.depth import estimate_disparity
-from mvtools.depth.segment import (
-    fill_from_planes,
-    fit_segment_planes,
-    plane_disparity,
-    segment_image,
-    select_segment_planes,
-    trim_fattening,
-)
+from mvtools.depth.oversegment import segment_image
+from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
+from mvtools.depth.segment import fill_from_planes, fit_segment_planes, plane_disparity
 
 
 def _blocks():

@@ -40,6 +40,8 @@ import numpy as np
 
 from mvtools.depth import METHODS
 from mvtools.depth.local import soft_segment_aggregate
+from mvtools.depth.oversegment import plane_segments
+from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
 from mvtools.depth.planesweep import plane_sweep_cost
 from mvtools.depth.refine import (
     fill_from_background,
@@ -47,7 +49,6 @@ from mvtools.depth.refine import (
     near_depth_edges,
     weighted_median,
 )
-from mvtools.depth.segment import plane_segments, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import winner_takes_all
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import depth_sign, ders_depth_range, facing_camera

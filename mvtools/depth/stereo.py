@@ -10,9 +10,10 @@ from mvtools.depth.bp import bp_volume
 from mvtools.depth.cost import COSTS, check_pair
 from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.local import local_volume
+from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.patchmatch import patchmatch_planes, plane_disparity
+from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
 from mvtools.depth.refine import clean_up, left_right_consistent, refine_subpixel
-from mvtools.depth.segment import plane_segments, select_segment_planes, trim_fattening
 from mvtools.depth.sgm import sgm_volume, winner_takes_all
 
 __all__ = ["COSTS", "METHODS", "PAIR_METHODS", "estimate_disparity"]

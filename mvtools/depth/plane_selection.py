@@ -1,0 +1,273 @@
+"""Segment planes against the matcher's disparities, decided by matching cost.
+
+Klaus, Sormann and Karner ("Segment-based stereo matching using belief propagation and a
+self-adapting dissimilarity measure", ICPR 2006) charge a segment's plane the matching
+cost of its pixels on it and choose among the planes by belief propagation over the
+segments. Here a trusted plane (:func:`mvtools.depth.segment.trusted_planes`) competes
+only with the segment's own disparities, and both are charged colour-weighted window
+means of the cost volume: whole segments take their plane where it costs about as much
+(:func:`select_segment_planes`), and pixels of fattened foreground next to a depth step
+fall back onto the plane of their segment (:func:`trim_fattening`)."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+from numba import njit, prange
+
+from mvtools.depth.cost import as_colour
+from mvtools.depth.segment import plane_disparity, trusted_planes
+
+__all__ = ["select_segment_planes", "trim_fattening"]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _window_cost(cost, guide, y, x, level, radius, weight_table, outside):
+    # Colour-weighted mean over the window of the costs at a fractional level, linearly
+    # interpolated between the two integer levels around it.
+    rows, cols, levels = cost.shape
+    if not 0.0 <= level <= levels - 1:
+        return outside
+    below = min(int(level), max(levels - 2, 0))
+    fraction = level - below
+    above = min(below + 1, levels - 1)
+    total = 0.0
+    weights = 0.0
+    for wy in range(max(0, y - radius), min(rows, y + radius + 1)):
+        for wx in range(max(0, x - radius), min(cols, x + radius + 1)):
+            weight = weight_table[
+                abs(guide[wy, wx, 0] - guide[y, x, 0])
+                + abs(guide[wy, wx, 1] - guide[y, x, 1])
+                + abs(guide[wy, wx, 2] - guide[y, x, 2])
+            ]
+            total += weight * (
+                (1.0 - fraction) * cost[wy, wx, below] + fraction * cost[wy, wx, above]
+            )
+            weights += weight
+    return total / weights
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _window_costs(cost, guide, pixels, levels, radius, weight_table, outside):
+    # the colour-weighted window cost of each listed (flat-indexed) pixel at its level
+    cols = guide.shape[1]
+    costs = np.empty(pixels.size, np.float64)
+    for i in prange(pixels.size):
+        costs[i] = _window_cost(
+            cost,
+            guide,
+            pixels[i] // cols,
+            pixels[i] % cols,
+            levels[i],
+            radius,
+            weight_table,
+            outside,
+        )
+    return costs
+
+
+class _WindowCost:
+    # Colour-weighted window means of a cost volume at fractional disparities, the
+    # measure both plane tests compare.
+    def __init__(self, cost, guide, min_disparity, radius, sigma_colour):
+        cost = np.ascontiguousarray(cost, np.float32)
+        if cost.ndim != 3 or np.ndim(guide) not in (2, 3) or cost.shape[:2] != np.shape(guide)[:2]:
+            raise ValueError(
+                f"cost must be an (H, W, D) volume over the guide's pixels, got "
+                f"{cost.shape} and {np.shape(guide)}"
+            )
+        if radius < 0 or sigma_colour <= 0:
+            raise ValueError(
+                f"need radius >= 0 and sigma_colour > 0, got {radius} and {sigma_colour}"
+            )
+        self.colour = as_colour(guide)
+        self.table = np.exp(-np.arange(3 * max(int(self.colour.max()), 0) + 1) / sigma_colour)
+        self.cost, self.min_disparity, self.radius = cost, float(min_disparity), int(radius)
+        # beyond the searched range a disparity costs as much as the worst match
+        self.outside = float(cost.max()) if cost.size else 0.0
+
+    def __call__(self, pixels, disparities):
+        # pixels: flat indices; disparities: one per pixel
+        return _window_costs(
+            self.cost,
+            self.colour,
+            np.asarray(pixels, np.int64),
+            np.asarray(disparities, np.float64) - self.min_disparity,
+            self.radius,
+            self.table,
+            self.outside,
+        )
+
+
+def select_segment_planes(
+    disparity: np.ndarray,
+    valid: np.ndarray,
+    labels: np.ndarray,
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    min_disparity: int = 0,
+    margin: float = 0.1,
+    radius: int = 2,
+    sigma_colour: float = 20.0,
+    min_support: float = 0.5,
+    min_inliers: float = 0.6,
+    tolerance: float = 1.0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Segments whose plane matches about as well as their disparities take the plane.
+
+    Each trusted plane (:func:`mvtools.depth.segment.trusted_planes`) is charged the
+    matching cost of the segment's valid pixels on it, and compared with the cost of
+    their current disparities; where it costs at most ``1 + margin`` times as much,
+    every pixel of the segment takes the plane and counts as valid. The costs of both are
+    colour-weighted window means (as in :func:`mvtools.depth.refine.weighted_median`): single-pixel
+    costs are too noisy to rank a plane, square windows straddle depth edges. A margin
+    above 0 lets the plane win where the pixel-wise disparities are fattened or noisy
+    but cheap: on the slanted planes of Venus and Teddy and around Tsukuba's objects;
+    curved surfaces (Cones, Dolls) cost clearly more on one plane and keep theirs.
+
+    Parameters
+    ----------
+    disparity : ndarray, shape (H, W)
+        Disparities, finite where ``valid``.
+    valid : ndarray of bool, shape (H, W)
+        Reliable pixels, e.g. left-right consistent.
+    labels : ndarray of int, shape (H, W)
+        Segments ``0 .. n - 1`` (:func:`mvtools.depth.oversegment.segment_image`).
+    cost : ndarray, shape (H, W, D)
+        Matching costs of the disparities ``min_disparity .. min_disparity + D - 1``,
+        e.g. :func:`mvtools.depth.cost.ad_census_cost`.
+    guide : ndarray, shape (H, W, 3) or (H, W)
+        The view, integer values (others are rounded).
+    min_disparity : keyword-only int
+        Disparity of the costs' level 0.
+    margin : keyword-only float
+        Accepted relative cost increase of the plane, at least 0.
+    radius : keyword-only int
+        Half size of the cost windows, at least 0.
+    sigma_colour : keyword-only float
+        Absolute colour difference summed over three channels at which a window pixel's
+        weight falls to 1/e.
+    min_support, min_inliers, tolerance : keyword-only float
+        Trust in a segment's plane, see :func:`mvtools.depth.segment.trusted_planes`.
+
+    Returns
+    -------
+    disparity : ndarray of float32, shape (H, W)
+        Sub-pixel on the chosen planes; pixels where the plane leaves the cost's
+        disparity range keep their value.
+    valid : ndarray of bool, shape (H, W)
+    """
+    disparity = np.asarray(disparity, np.float32)
+    valid = np.asarray(valid, bool)
+    labels = np.asarray(labels, np.int64)
+    if margin < 0:
+        raise ValueError(f"margin must be at least 0, got {margin}")
+    window_cost = _WindowCost(cost, guide, min_disparity, radius, sigma_colour)
+    if labels.shape != disparity.shape or window_cost.cost.shape[:2] != disparity.shape:
+        raise ValueError(
+            f"cost volume of shape {window_cost.cost.shape} and labels of shape "
+            f"{labels.shape} do not fit the {disparity.shape} map"
+        )
+    planes, trusted = trusted_planes(disparity, valid, labels, min_support, min_inliers, tolerance)
+    on_planes = plane_disparity(planes, labels)
+    # the valid pixels' costs summed per segment, on the plane and as they are
+    pixels = np.flatnonzero((valid & np.isfinite(disparity)).ravel())
+    segment_of = labels.ravel()[pixels]
+    count = planes.shape[0]
+    on_plane = np.bincount(
+        segment_of, window_cost(pixels, on_planes.ravel()[pixels]), minlength=count
+    )
+    own = np.bincount(segment_of, window_cost(pixels, disparity.ravel()[pixels]), minlength=count)
+    chosen = trusted & (on_plane <= (1.0 + margin) * own)
+    levels = window_cost.cost.shape[2]
+    replace = (
+        chosen[labels] & (on_planes >= min_disparity) & (on_planes <= min_disparity + levels - 1)
+    )
+    return np.where(replace, on_planes, disparity).astype(np.float32), valid | replace
+
+
+def trim_fattening(
+    disparity: np.ndarray,
+    valid: np.ndarray,
+    labels: np.ndarray,
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    min_disparity: int = 0,
+    margin: float = 1.0,
+    reach: int = 2,
+    jump: float = 1.0,
+    radius: int = 2,
+    sigma_colour: float = 20.0,
+    min_support: float = 0.5,
+    min_inliers: float = 0.6,
+    tolerance: float = 1.0,
+) -> np.ndarray:
+    """Pixels next to a depth step that stand in front of their segment's plane take it.
+
+    Window matchers fatten the foreground: its disparity spills over the background
+    pixels whose cost windows overlap it, which also pass a left-right check, as the
+    right view is fattened alike. Such pixels lie within a few columns of a horizontal
+    disparity step and above the trusted plane
+    (:func:`mvtools.depth.segment.trusted_planes`) of their segment, which a colour edge
+    separates from the foreground; they take the plane unless its colour-weighted window
+    cost (as in :func:`select_segment_planes`) exceeds ``1 + margin`` times theirs, which
+    keeps true foreground pixels of segments that straddle a depth edge (textures
+    without colour edges). Only larger disparities are pulled back: smaller ones are no
+    fattening, and replacing them loses on curved surfaces (Dolls, Moebius).
+
+    Parameters
+    ----------
+    disparity : ndarray, shape (H, W)
+        Disparities, finite where ``valid``.
+    valid : ndarray of bool, shape (H, W)
+        Reliable pixels, the only ones fitted and changed.
+    labels : ndarray of int, shape (H, W)
+        Segments ``0 .. n - 1`` (:func:`mvtools.depth.oversegment.segment_image`).
+    cost, guide, min_disparity, radius, sigma_colour
+        Matching costs and their window means, see :func:`select_segment_planes`.
+    margin : keyword-only float
+        Accepted relative cost increase of the plane, at least 0.
+    reach : keyword-only int
+        Columns on either side of a step within which pixels are examined, at least 1.
+    jump : keyword-only float
+        Smallest difference between horizontal neighbours counted as a depth step, and
+        between a pixel's disparity and its plane counted as in front of it; positive.
+    min_support, min_inliers, tolerance : keyword-only float
+        Trust in a segment's plane, see :func:`mvtools.depth.segment.trusted_planes`.
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W)
+    """
+    if reach < 1 or jump <= 0 or margin < 0:
+        raise ValueError(f"need reach >= 1, jump > 0, margin >= 0, got {reach}, {jump}, {margin}")
+    disparity = np.asarray(disparity, np.float32)
+    valid = np.asarray(valid, bool)
+    window_cost = _WindowCost(cost, guide, min_disparity, radius, sigma_colour)
+    planes, trusted = trusted_planes(disparity, valid, labels, min_support, min_inliers, tolerance)
+    on_planes = plane_disparity(planes, labels)
+    finite = np.ascontiguousarray(np.where(np.isfinite(disparity), disparity, 0.0), np.float32)
+    row = np.ones((1, 3), np.uint8)
+    step = cv2.dilate(finite, row) - cv2.erode(finite, row) > jump
+    near = cv2.dilate(step.astype(np.uint8), np.ones((1, 2 * reach + 1), np.uint8)) > 0
+    levels = window_cost.cost.shape[2]
+    with np.errstate(invalid="ignore"):
+        candidates = np.flatnonzero(
+            (
+                trusted[labels]
+                & near
+                & valid
+                & (disparity > on_planes + jump)
+                & (on_planes >= min_disparity)
+                & (on_planes <= min_disparity + levels - 1)
+            ).ravel()
+        )
+    plane_values = on_planes.ravel()[candidates]
+    affordable = window_cost(candidates, plane_values) <= (1.0 + margin) * window_cost(
+        candidates, disparity.ravel()[candidates]
+    )
+    trimmed = disparity.copy()
+    trimmed.ravel()[candidates[affordable]] = plane_values[affordable]
+    return trimmed
