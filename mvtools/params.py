@@ -3,9 +3,11 @@
 One dataclass field per configuration key of the MPEG reference programs. Each
 field's metadata holds the key as the reference programs spell it, its meaning,
 the values it allows and whether it names a file to read or to write. Configuration
-files (:mod:`mvtools.io.config`) and command-line options are both derived from
-this one table through :func:`param_specs`, so a program's options and its
-configuration keys are the same parameters.
+files (read by the io layer, which imports this module and not the reverse) and
+command-line options are both derived from this one table through
+:func:`param_specs`, so a program's options and its configuration keys are the same
+parameters. The instances hold plain values: which file, line and key gave each one
+is kept beside them by the io layer's loaded configuration (``LoadedConfig``).
 
 The instances validate themselves on construction and raise :class:`ParamError`
 (a ``ValueError``) naming the configuration key at fault.
@@ -20,14 +22,10 @@ import functools
 import math
 import numbers
 import os
-from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 from mvtools.geometry.depth import check_depth_range, depth_sign
-
-if TYPE_CHECKING:
-    from mvtools.io.config import ConfigEntry
 
 
 class Kind(enum.Enum):
@@ -62,7 +60,7 @@ class ParamSpec:
         The value must be strictly greater than ``minimum``.
     kind : Kind
         Whether the value names an input file (searched for, see
-        :func:`mvtools.io.config.resolve_input_path`) or an output file.
+        the io layer's ``resolve_input_path``) or an output file.
     """
 
     name: str
@@ -210,16 +208,9 @@ def _depth_range(near: float, far: float) -> tuple[float, float] | None:
 
 @dataclass(frozen=True, kw_only=True)
 class _ProgramParams:
-    """Validation and provenance shared by the parameter classes."""
+    """Validation shared by the parameter classes."""
 
     program: ClassVar[str]
-    #: Where each value came from, by field name (set by
-    #: :func:`mvtools.io.config.load_params`); values not in it are defaults.
-    #: ``dataclasses.replace`` carries it over unchanged: change values through
-    #: entries and ``load_params`` to keep it true.
-    sources: "Mapping[str, ConfigEntry]" = dataclasses.field(
-        default_factory=dict, compare=False, repr=False
-    )
 
     # The keys both programs start with.
     depth_type: int = _param(

@@ -14,13 +14,13 @@ from mvtools.io.config import (
     ConfigEntry,
     load_params,
     override_entries,
-    param_entry,
     parse_overrides,
     read_config,
     resolve_input_path,
     resolve_output_path,
     write_config,
 )
+from mvtools.io.loaded_config import LoadedConfig
 from mvtools.params import DersParams, Kind, ParamError, VsrsParams, param_specs
 
 # Values read off the shipped files by eye: (folder, file, SourceWidth, SourceHeight,
@@ -203,8 +203,9 @@ def write_text(path: Path, text: str, newline: str = "\n") -> Path:
 
 
 def load_text(tmp_path, text, cls=VsrsParams, name="test.cfg"):
+    """(params, sources, path) of a configuration file holding ``text``."""
     path = write_text(tmp_path / name, text)
-    return load_params(cls, read_config(path)), path
+    return *load_params(cls, read_config(path)), path
 
 
 # --- the shipped files ------------------------------------------------------------------
@@ -230,7 +231,7 @@ def test_shipped_vsrs_config_parses(
     path = shared_data("mpeg", *folder.split("/"), name)
     with caplog.at_level(logging.WARNING, logger="mvtools"):
         entries = read_config(path)
-        params = load_params(VsrsParams, entries)
+        params, _ = load_params(VsrsParams, entries)
     assert caplog.records == []  # every key known, none twice
     assert len(entries) == 24
     assert all("\r" not in entry.value and entry.value for entry in entries.values())
@@ -246,7 +247,7 @@ def test_kendo_values_sources_and_paths(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # the reference's own first place holds nothing
     mpeg = shared_data("mpeg")
     path = mpeg / "kendo" / "config" / "VSRS" / "vsrs_kendo_ori.cfg"
-    params = load_params(VsrsParams, read_config(path))
+    params, sources = load_params(VsrsParams, read_config(path))
     assert params.source_width == 1024 and params.source_height == 768
     assert params.precision == 4 and params.view_blending == 1
     assert params.left_depth_range == (448.251214, 11206.280350)
@@ -261,24 +262,23 @@ def test_kendo_values_sources_and_paths(tmp_path, monkeypatch):
         5,
         1,
     )
-    assert "splatting_option" not in params.sources
+    assert "splatting_option" not in sources
 
-    assert params.sources["precision"] == ConfigEntry("Precision", "4", str(path), 25)
-    assert param_entry(params, "precision").line == 25
-    assert param_entry(params, "boundary_growth") == ConfigEntry(
-        "BoundaryGrowth", "40", DEFAULT, None
-    )
+    assert sources["precision"] == ConfigEntry("Precision", "4", str(path), 25)
+    loaded = LoadedConfig(params, sources)
+    assert loaded.entry("precision").line == 25
+    assert loaded.entry("boundary_growth") == ConfigEntry("BoundaryGrowth", "40", DEFAULT, None)
 
-    camera_entry = param_entry(params, "camera_parameter_file")
+    camera_entry = loaded.entry("camera_parameter_file")
     camera_file = mpeg / "kendo" / "config" / "VSRS" / "cam_param_kendo.cfg"
     for data_dir in (mpeg / "kendo", mpeg):
         assert resolve_input_path(camera_entry, data_dirs=[data_dir]) == camera_file
         assert (
-            resolve_input_path(param_entry(params, "left_view_image_name"), data_dirs=[data_dir])
+            resolve_input_path(loaded.entry("left_view_image_name"), data_dirs=[data_dir])
             == mpeg / "kendo" / "kendo_ori_I_1.yuv"
         )
         assert (
-            resolve_input_path(param_entry(params, "right_depth_map_name"), data_dirs=[data_dir])
+            resolve_input_path(loaded.entry("right_depth_map_name"), data_dirs=[data_dir])
             == mpeg / "kendo" / "kendo_ori_D_3.yuv"
         )
     # The camera file sits beside the configuration: found with no data folder at all.
@@ -288,7 +288,7 @@ def test_kendo_values_sources_and_paths(tmp_path, monkeypatch):
         match=r"vsrs_kendo_ori.cfg:18: LeftViewImageName: .*"
         r"not found \(tried 5 places",
     ):
-        resolve_input_path(param_entry(params, "left_view_image_name"))
+        resolve_input_path(loaded.entry("left_view_image_name"))
 
 
 def test_windows_drive_path_found_by_its_tails(tmp_path, monkeypatch):
@@ -337,7 +337,7 @@ def test_ders_config_with_tabs_crlf_and_comments(tmp_path):
     path = write_text(tmp_path / "ders.cfg", DERS_TEXT, newline="\r\n")
     entries = read_config(path)
     assert entries["SourceHeight"] == ConfigEntry("SourceHeight", "768", str(path), 4)
-    params = load_params(DersParams, entries)
+    params, _ = load_params(DersParams, entries)
     assert params.depth_type == 0
     assert (params.source_width, params.source_height) == (1024, 768)
     assert params.center_camera_name == "param_kendo02"
@@ -367,7 +367,7 @@ def test_ders_config_with_tabs_crlf_and_comments(tmp_path):
 
 
 def test_key_without_value_is_empty(tmp_path):
-    params, _ = load_text(tmp_path, "LeftCameraName\nCenterCameraName c  # x\n", DersParams)
+    params, _, _ = load_text(tmp_path, "LeftCameraName\nCenterCameraName c  # x\n", DersParams)
     assert params.left_camera_name == "" and params.center_camera_name == "c"
 
 
@@ -394,8 +394,8 @@ def test_unbalanced_quote_is_an_error(tmp_path):
 
 def test_duplicate_key_warns_and_last_wins(tmp_path, caplog):
     with caplog.at_level(logging.WARNING, logger="mvtools"):
-        params, path = load_text(tmp_path, "Precision 1\nFilter 0\nPrecision 4\n")
-    assert params.precision == 4 and params.sources["precision"].line == 3
+        params, sources, path = load_text(tmp_path, "Precision 1\nFilter 0\nPrecision 4\n")
+    assert params.precision == 4 and sources["precision"].line == 3
     assert [r.getMessage() for r in caplog.records] == [
         f"{path}:3: Precision given on lines 1 and 3; the last one ('4') wins"
     ]
@@ -412,7 +412,7 @@ def test_missing_config_file(tmp_path):
 
 def test_unknown_key_warns_with_nearest_key(tmp_path, caplog):
     with caplog.at_level(logging.WARNING, logger="mvtools"):
-        params, path = load_text(tmp_path, "SourceWidth 640\nPrecison 4\nZzzz 1\n")
+        params, _, path = load_text(tmp_path, "SourceWidth 640\nPrecison 4\nZzzz 1\n")
     assert params.precision == 2  # the misspelt key is ignored
     assert [r.getMessage() for r in caplog.records] == [
         f"{path}:2: unknown key 'Precison' (did you mean 'Precision'?), ignored",
@@ -491,7 +491,7 @@ def test_znear_must_be_nearer_than_zfar(tmp_path):
         (1, 0.5, -2.5),
         (1, -0.5, 2.5),
     ):
-        params, _ = load_text(
+        params, _, _ = load_text(
             tmp_path,
             f"DepthType {depth_type}\nLeftNearestDepthValue {near}\nLeftFarthestDepthValue {far}\n",
         )
@@ -554,11 +554,11 @@ def test_overrides_win_over_the_file(tmp_path):
     path = write_text(tmp_path / "test.cfg", "Precision 1\nSourceWidth 640\n")
     entries = read_config(path)
     entries.update(parse_overrides(["Precision=4", "LeftViewImageName=a b.yuv"]))
-    params = load_params(VsrsParams, entries)
+    params, sources = load_params(VsrsParams, entries)
     assert (params.precision, params.source_width) == (4, 640)
     assert params.left_view_image_name == "a b.yuv"
-    assert params.sources["precision"] == ConfigEntry("Precision", "4", COMMAND_LINE, None)
-    assert params.sources["source_width"].path == str(path)
+    assert sources["precision"] == ConfigEntry("Precision", "4", COMMAND_LINE, None)
+    assert sources["source_width"].path == str(path)
     with pytest.raises(ConfigError, match=r"^<command line>: Precision: 3 is not one of"):
         load_params(VsrsParams, {**entries, **parse_overrides(["Precision=3"])})
     with pytest.raises(ConfigError, match=r"^<command line>: Filter: '' is not an integer"):
@@ -710,7 +710,7 @@ def test_write_config_round_trip(tmp_path):
     assert by_key["LeftCameraName"].split("#")[0].split() == ["LeftCameraName"]
     assert '"C:\\My cams\\cam #1.txt"' in by_key["CameraParameterFile"]
     assert len({line.index("#") for line in lines[1:] if '"' not in line}) == 1  # aligned
-    again = load_params(VsrsParams, read_config(path))
+    again, _ = load_params(VsrsParams, read_config(path))
     assert again == params
     assert again.left_nearest_depth_value == 0.1 + 0.2
 
@@ -721,7 +721,7 @@ def test_write_config_round_trip(tmp_path):
         farthest_depth_value=100.25,
     )
     write_config(path, ders)
-    assert load_params(DersParams, read_config(path)) == ders
+    assert load_params(DersParams, read_config(path))[0] == ders
 
 
 def test_write_config_refuses_unwritable_value(tmp_path):
@@ -738,7 +738,7 @@ def test_shipped_templates_hold_every_key_with_its_default(name, cls):
     template = Path(__file__).resolve().parent.parent / "configs" / name
     entries = read_config(template)
     assert set(entries) == {spec.key for spec in param_specs(cls)}
-    assert load_params(cls, entries) == cls()
+    assert load_params(cls, entries)[0] == cls()
 
 
 def test_method_key_offers_exactly_the_depth_methods():

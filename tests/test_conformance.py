@@ -789,7 +789,9 @@ def test_shipped_1d_configurations_have_rectified_cameras(corpus):
     # (Lovebird 1's right camera is 0.44 off the line: under a tenth of a pixel here).
     for name in NAMES:
         seq = sequence(name)
-        config = load_params(VsrsParams, read_config(shared_data("mpeg", *seq.config.split("/"))))
+        config, _ = load_params(
+            VsrsParams, read_config(shared_data("mpeg", *seq.config.split("/")))
+        )
         if seq.own_config and config.synthesis_mode == 1:
             assert one_dimensional(corpus(name)), name
 
@@ -934,7 +936,7 @@ def test_shipped_configuration_runs_unmodified(tmp_path, config, data_dir, key, 
         assert list(tmp_path.iterdir()) == []
         return
     assert code == 0, err
-    params = load_params(VsrsParams, read_config(path))
+    params, _ = load_params(VsrsParams, read_config(path))
     output = tmp_path / params.output_virtual_view_image_name
     # One frame in the corpus' videos: 4:2:0, 8 bits.
     assert output.stat().st_size == params.source_width * params.source_height * 3 // 2

@@ -28,7 +28,7 @@ def _load(path):
         return read_htm_cameras(path) if name.startswith("cam") else read_htm_config(path)
     if name.startswith("cam_param"):
         return read_cameras(path)
-    return load_params(VsrsParams, read_config(path))
+    return load_params(VsrsParams, read_config(path))[0]
 
 
 @pytest.mark.parametrize("relative", _published_files())

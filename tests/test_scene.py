@@ -520,7 +520,7 @@ def test_scene_program_writes_the_ground_truth(sample_folder):
     # BT.601 limited range by hand.
     expected_luma = 16 + 219 * (colour @ np.array([0.299, 0.587, 0.114]))
     assert np.abs(luma - expected_luma).max() <= 0.5 + 1e-9
-    vsrs = load_params(VsrsParams, read_config(line / "synthesize_cam1.cfg"))
+    vsrs, _ = load_params(VsrsParams, read_config(line / "synthesize_cam1.cfg"))
     assert (vsrs.left_camera_name, vsrs.virtual_camera_name, vsrs.right_camera_name) == (
         "cam0",
         "cam1",
@@ -528,13 +528,13 @@ def test_scene_program_writes_the_ground_truth(sample_folder):
     )
     assert vsrs.synthesis_mode == 1 and vsrs.left_depth_range == (2.0, 13.0)
     assert (line / vsrs.left_depth_map_name).exists()
-    ders = load_params(DersParams, read_config(line / "depth_cam1.cfg"))
+    ders, _ = load_params(DersParams, read_config(line / "depth_cam1.cfg"))
     # f B / z over [2, 13] with f = 60 px, B = 0.1 m: [0.46, 3] -> [0, 3].
     assert (
         ders.minimum_value_of_disparity_search_range,
         ders.maximum_value_of_disparity_search_range,
     ) == (0, 3)
-    arc = load_params(VsrsParams, read_config(sample_folder / "arc" / "synthesize_cam1.cfg"))
+    arc, _ = load_params(VsrsParams, read_config(sample_folder / "arc" / "synthesize_cam1.cfg"))
     assert arc.synthesis_mode == 0
 
 

@@ -149,7 +149,7 @@ def _describe_config(path: Path, loaded: LoadedConfig) -> str:
     params = loaded.params
     lines = [f"{path}: {params.program} configuration"]
     for spec in param_specs(type(params)):
-        source = params.sources.get(spec.name)
+        source = loaded.sources.get(spec.name)
         if source is None:
             where = "default"
         else:

@@ -15,7 +15,8 @@ are case-sensitive. Where the reference programs misbehave this module does not:
 
 Values keep the text of the file; :func:`load_params` converts and validates them
 into :class:`mvtools.params.VsrsParams` or :class:`mvtools.params.DersParams` and
-remembers where each came from, so later errors can name file, line and key.
+returns beside them where each came from, so later errors can name file, line and key
+(:meth:`mvtools.io.loaded_config.LoadedConfig.entry`).
 """
 
 from __future__ import annotations
@@ -46,7 +47,8 @@ logger = logging.getLogger(__name__)
 
 #: ``ConfigEntry.path`` of values given on the command line.
 COMMAND_LINE = "<command line>"
-#: ``ConfigEntry.path`` of default values (see :func:`param_entry`).
+#: ``ConfigEntry.path`` of default values (see
+#: :meth:`mvtools.io.loaded_config.LoadedConfig.entry`).
 DEFAULT = "<default>"
 
 P = TypeVar("P")
@@ -260,7 +262,9 @@ def _convert(entry: ConfigEntry, spec: ParamSpec) -> Any:
     return entry.value
 
 
-def load_params(cls: type[P], entries: Mapping[str, ConfigEntry]) -> P:
+def load_params(
+    cls: type[P], entries: Mapping[str, ConfigEntry]
+) -> tuple[P, dict[str, ConfigEntry]]:
     """Typed, validated parameters from configuration entries.
 
     Parameters
@@ -272,10 +276,13 @@ def load_params(cls: type[P], entries: Mapping[str, ConfigEntry]) -> P:
 
     Returns
     -------
-    cls
-        Keys absent from ``entries`` take their defaults. ``result.sources`` maps
-        each field given by an entry to that entry (see :func:`param_entry`).
-        Unknown keys are logged as warnings with the nearest known key, and ignored.
+    params : cls
+        Keys absent from ``entries`` take their defaults. Unknown keys are logged
+        as warnings with the nearest known key, and ignored.
+    sources : dict of str to ConfigEntry
+        Field name -> the entry that gave its value; fields absent take their
+        defaults. :class:`mvtools.io.loaded_config.LoadedConfig` keeps it to name
+        the file, line and key of a value that later proves wrong.
 
     Raises
     ------
@@ -298,13 +305,14 @@ def load_params(cls: type[P], entries: Mapping[str, ConfigEntry]) -> P:
         sources[spec.name] = entry
         logger.debug("%s: %s = %s", entry.place, key, format_value(values[spec.name]))
     try:
-        return cls(**values, sources=sources)
+        params = cls(**values)
     except ParamError as err:
         # Point at the first key involved that an entry gave; defaults have no line.
         given = [entries[key] for key in err.keys if key in entries]
         if given:
             raise given[0].error(err.message) from None
         raise ConfigError(err.message, key=err.key) from None
+    return params, sources
 
 
 #: Keys of their own that make a file the other program's configuration (at least this
@@ -329,28 +337,6 @@ def _check_program(cls: type, entries: Mapping[str, ConfigEntry]) -> None:
                 f"this is a {other.program} configuration ({shown}, ...), not a {cls.program} one",
                 path=only_theirs[0].path,
             )
-
-
-def param_entry(params: Any, name: str) -> ConfigEntry:
-    """The entry a parameter's value came from, for path lookup and messages.
-
-    Parameters
-    ----------
-    params : VsrsParams or DersParams
-    name : str
-        Field name, e.g. ``"camera_parameter_file"``.
-
-    Returns
-    -------
-    ConfigEntry
-        ``params.sources[name]``, or for a default value an entry with path
-        :data:`DEFAULT`.
-    """
-    entry = params.sources.get(name)
-    if entry is not None:
-        return entry
-    spec = next(spec for spec in param_specs(type(params)) if spec.name == name)
-    return ConfigEntry(spec.key, format_value(getattr(params, name)), DEFAULT, None)
 
 
 def _split_path(value: str) -> tuple[Path | None, tuple[str, ...]]:
@@ -387,7 +373,8 @@ def resolve_input_path(
     Parameters
     ----------
     entry : ConfigEntry
-        The setting, from a file, the command line or :func:`param_entry`.
+        The setting, from a file, the command line or
+        :meth:`mvtools.io.loaded_config.LoadedConfig.entry`.
     data_dirs : iterable of path-like
         Further folders to search (a program's ``--data-dir``).
     must_exist : bool

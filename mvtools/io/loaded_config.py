@@ -18,10 +18,10 @@ from mvtools.geometry.camera import Camera
 from mvtools.io.cameras import get_camera
 from mvtools.io.config import (
     COMMAND_LINE,
+    DEFAULT,
     ConfigEntry,
     load_params,
     override_entries,
-    param_entry,
     parse_overrides,
     read_config,
     resolve_input_path,
@@ -30,7 +30,7 @@ from mvtools.io.config import (
 from mvtools.io.inputs import frame_range
 from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.yuv import VideoReader, YuvFormat, format_from_name, open_video
-from mvtools.params import Kind, param_specs
+from mvtools.params import Kind, format_value, param_specs
 
 
 @dataclass
@@ -40,6 +40,10 @@ class LoadedConfig:
     Attributes
     ----------
     params : VsrsParams or DersParams
+    sources : dict of str to ConfigEntry
+        Field name -> the entry that gave its value (file, ``Key=Value`` item or
+        option), as :func:`mvtools.io.config.load_params` returns it; fields absent
+        have their default values. See :meth:`entry`.
     inputs : dict of str to Path
         Field name -> input file found, for every non-empty input-file parameter.
     outputs : dict of str to Path
@@ -55,11 +59,32 @@ class LoadedConfig:
     """
 
     params: Any
+    sources: dict[str, ConfigEntry] = field(default_factory=dict)
     inputs: dict[str, Path] = field(default_factory=dict)
     outputs: dict[str, Path] = field(default_factory=dict)
     cameras: dict[str, Camera] = field(default_factory=dict)
     all_cameras: dict[str, Camera] = field(default_factory=dict)
     options: frozenset[str] = frozenset()
+
+    def entry(self, name: str) -> ConfigEntry:
+        """The entry a parameter's value came from, for path lookup and messages.
+
+        Parameters
+        ----------
+        name : str
+            Field name, e.g. ``"camera_parameter_file"``.
+
+        Returns
+        -------
+        ConfigEntry
+            ``sources[name]``, or for a default value an entry of its key and value
+            with path :data:`mvtools.io.config.DEFAULT` and no line.
+        """
+        entry = self.sources.get(name)
+        if entry is not None:
+            return entry
+        spec = next(spec for spec in param_specs(type(self.params)) if spec.name == name)
+        return ConfigEntry(spec.key, format_value(getattr(self.params, name)), DEFAULT, None)
 
     @property
     def video_fields(self) -> list[str]:
@@ -69,7 +94,7 @@ class LoadedConfig:
     def video_format(self, name: str) -> YuvFormat:
         """Format of an input video (:func:`video_format_for` with the configured size)."""
         size = (self.params.source_width, self.params.source_height)
-        return video_format_for(self.inputs[name], size, key=param_entry(self.params, name).key)
+        return video_format_for(self.inputs[name], size, key=self.entry(name).key)
 
     def open_video(self, name: str) -> VideoReader:
         return open_video(self.inputs[name], self.video_format(name))
@@ -79,7 +104,7 @@ class LoadedConfig:
         (:func:`mvtools.io.inputs.frame_range`); a start past the end names what gave
         it: ``--start-frame``, or the key with its file and line."""
         params = self.params
-        given = None if "start_frame" in self.options else param_entry(params, "start_frame")
+        given = None if "start_frame" in self.options else self.entry("start_frame")
         return frame_range(
             readers, params.start_frame, params.total_number_of_frames, start_given=given
         )
@@ -145,9 +170,10 @@ def load_config(
     entries = read_config(config) if config is not None else {}
     entries.update(parse_overrides(overrides))
     entries.update(override_entries(cls, options or {}))
-    params = load_params(cls, entries)
+    params, sources = load_params(cls, entries)
     loaded = LoadedConfig(
         params,
+        sources,
         options=frozenset(name for name, value in (options or {}).items() if value is not None),
     )
     data_dirs = tuple(data_dirs)
@@ -156,10 +182,10 @@ def load_config(
             continue
         if spec.kind is Kind.INPUT_FILE:
             loaded.inputs[spec.name] = resolve_input_path(
-                param_entry(params, spec.name), data_dirs=data_dirs
+                loaded.entry(spec.name), data_dirs=data_dirs
             )
         elif spec.kind is Kind.OUTPUT_FILE:
-            loaded.outputs[spec.name] = resolve_output_path(param_entry(params, spec.name))
+            loaded.outputs[spec.name] = resolve_output_path(loaded.entry(spec.name))
     camera_file = loaded.inputs.get(cls.camera_file_field)
     if camera_file is not None:
         cameras = read_camera_file(camera_file, transposed_rotation=transposed_rotation)
@@ -171,7 +197,7 @@ def load_config(
                     loaded.cameras[spec.name] = get_camera(cameras, name)
                 except ConfigError as error:
                     # Point at the configuration line that asked for the camera.
-                    raise param_entry(params, spec.name).error(
+                    raise loaded.entry(spec.name).error(
                         f"{error.message} (in {camera_file})"
                     ) from None
     return loaded

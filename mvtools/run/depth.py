@@ -28,7 +28,6 @@ from mvtools.errors import ConfigError, DataError, UsageError, at_fault
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import DepthCoding
 from mvtools.io.atomic import output_folder_exists
-from mvtools.io.config import param_entry
 from mvtools.io.depth_sidecar import (
     SIDECAR_WHAT,
     DepthSidecar,
@@ -332,18 +331,18 @@ def estimate_depth_loaded(
 
     params = loaded.params
     if params.method not in METHODS:
-        raise param_entry(params, "method").error(
+        raise loaded.entry("method").error(
             f"method {params.method!r} is for stereo pairs; DERS mode methods: {', '.join(METHODS)}"
         )
     if params.file_camera_parameter == "":
-        raise param_entry(params, "file_camera_parameter").error("no camera parameter file given")
+        raise loaded.entry("file_camera_parameter").error("no camera parameter file given")
     if "center_camera_name" not in loaded.cameras:
-        raise param_entry(params, "center_camera_name").error("no camera name given")
+        raise loaded.entry("center_camera_name").error("no camera name given")
     sides = _matched_sides(loaded, further=bool(further_views))
     fields = ["file_center_view_image"] + [f"file_{side}_view_image" for side in sides]
     for field in fields:
         if field not in loaded.inputs:
-            raise param_entry(params, field).error("no file given")
+            raise loaded.entry(field).error("no file given")
     size = (params.source_width, params.source_height)
     # (path, format) of every view read, the center first, then the neighbours in order
     videos = [(loaded.inputs[field], loaded.video_format(field)) for field in fields]
@@ -352,7 +351,7 @@ def estimate_depth_loaded(
         videos.append((view.video, video_format_for(view.video, size, key=view.key)))
         neighbours.append(Neighbour(view.camera))
     if "file_output_depth_map_image" not in loaded.outputs:
-        raise param_entry(params, "file_output_depth_map_image").error(
+        raise loaded.entry("file_output_depth_map_image").error(
             "no output file given (or -o)", UsageError
         )
     target = loaded.outputs["file_output_depth_map_image"]
@@ -388,11 +387,11 @@ def _matched_sides(loaded: LoadedConfig, *, further: bool) -> list[str]:
     wanted = _DIRECTIONS[params.match_direction]
     named = [side for side in ("left", "right") if f"{side}_camera_name" in loaded.cameras]
     if not named and not further:
-        raise param_entry(params, "left_camera_name").error(
+        raise loaded.entry("left_camera_name").error(
             "no neighbour view: give LeftCameraName and/or RightCameraName"
         )
     if params.match_direction != 3 and wanted[0] not in named and named:
-        raise param_entry(params, "match_direction").error(
+        raise loaded.entry("match_direction").error(
             f"MatchDirection {params.match_direction} matches the {wanted[0]} view, but "
             f"{wanted[0].title()}CameraName is not given"
         )

@@ -25,7 +25,6 @@ import numpy as np
 from mvtools.errors import ConfigError, DataError, UsageError, at_fault
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import DepthCoding, depth_sign, facing_camera
-from mvtools.io.config import param_entry
 from mvtools.io.guard import check_output
 from mvtools.io.loaded_config import LoadedConfig, load_config, video_format_for
 from mvtools.io.yuv import VideoReader, YuvFormat, frame_from_luma, open_video, open_writer
@@ -351,7 +350,7 @@ def synthesize_loaded(
         )
     references = _facing(references, params.depth_type)
     if "virtual_camera_name" not in loaded.cameras:
-        raise param_entry(params, "virtual_camera_name").error("no camera name given")
+        raise loaded.entry("virtual_camera_name").error("no camera name given")
     virtual = facing_camera(
         loaded.cameras["virtual_camera_name"],
         references[0].depth_range,
@@ -442,21 +441,21 @@ def _config_references(loaded: LoadedConfig) -> list[ReferenceFiles]:
         files = []
         for field in (f"{side}_view_image_name", f"{side}_depth_map_name"):
             if field not in loaded.inputs:
-                raise param_entry(params, field).error(f"no file given for camera {camera.name!r}")
+                raise loaded.entry(field).error(f"no file given for camera {camera.name!r}")
             files.append(loaded.inputs[field])
         depth_range = getattr(params, f"{side}_depth_range") or camera.depth_range
         if depth_range is None:
-            raise param_entry(params, f"{side}_nearest_depth_value").error(
+            raise loaded.entry(f"{side}_nearest_depth_value").error(
                 f"the depth range of camera {camera.name!r} is not given ({side.title()}Nearest"
                 f"DepthValue and {side.title()}FarthestDepthValue)"
             )
         keys = [
-            param_entry(params, field).key
+            loaded.entry(field).key
             for field in (f"{side}_view_image_name", f"{side}_depth_map_name")
         ]
         references.append(ReferenceFiles(camera, *files, tuple(depth_range), *keys))
     if len(references) == 1 and not params.left_camera_name:
-        raise param_entry(params, "left_camera_name").error(
+        raise loaded.entry("left_camera_name").error(
             "RightCameraName is given without LeftCameraName; give one reference view as the left"
         )
     return references
@@ -485,7 +484,7 @@ def _facing(references: list[ReferenceFiles], depth_type: int) -> list[Reference
 
 def _output_path(loaded: LoadedConfig) -> Path:
     if "output_virtual_view_image_name" not in loaded.outputs:
-        raise param_entry(loaded.params, "output_virtual_view_image_name").error(
+        raise loaded.entry("output_virtual_view_image_name").error(
             "no output file given", UsageError
         )
     return loaded.outputs["output_virtual_view_image_name"]
