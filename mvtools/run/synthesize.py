@@ -30,16 +30,15 @@ from mvtools.io.loaded_config import LoadedConfig, load_config, video_format_for
 from mvtools.io.yuv import VideoReader, YuvFormat, frame_from_luma, open_video, open_writer
 from mvtools.params import VsrsParams
 from mvtools.run.stream import ProgressCallback, stream_frames
-from mvtools.synthesis.views import FILTERS, ReferenceView, SynthesisOptions
+from mvtools.synthesis.views import (
+    DEFAULT_HOLE_FILLING,
+    FILTERS,
+    ReferenceView,
+    SynthesisOptions,
+)
 from mvtools.synthesis.working import from_working, to_working, world_z
 
 LOG = logging.getLogger(__name__)
-
-#: Hole filling of ``IvsrsInpaint 1`` (VSRS's default, depth-aware filling from the
-#: background side) and when nothing is said: the best background-side method measured
-#: on Cones (see the README). ``IvsrsInpaint 0`` is plain inpainting; ``--hole-filling``
-#: chooses any method, VSRS's own row rule ("background") included.
-DEFAULT_HOLE_FILLING = "background-diffusion"
 
 
 @dataclass(frozen=True)
