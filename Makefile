@@ -37,7 +37,7 @@ demo: install
 	$(BIN)/mvtools convert $(DEMO)/line_v2_synthesized_$(VIEW) -o $(DEMO)/line_v2_synthesized_%02d.png
 	$(BIN)/mvtools convert $(LINE)/v2_texture_256x192_yuv420p.yuv -o $(DEMO)/v2_texture_%02d.png
 	$(BIN)/mvtools convert $(LINE)/v2_depth_256x192_yuv420p.yuv --depth --preview -o $(DEMO)/v2_depth_%02d.png
-	$(BIN)/mvtools convert $(LINE)/v2_depth_256x192_gray16le.yuv --depth --to z --znear 2 --zfar 13 -o $(DEMO)/v2_z_%02d.pfm
+	$(BIN)/mvtools convert $(LINE)/v2_depth_256x192_gray16le.yuv --depth --to z --depth-range 2 13 -o $(DEMO)/v2_z_%02d.pfm
 	$(MAKE) --no-print-directory chain
 	$(BIN)/mvtools report $(DEMO)
 	@echo "demo outputs in $(DEMO), and the page of them all: $(DEMO)/report.html"
@@ -71,7 +71,7 @@ $(foreach c,$(CAMS),$(RECTIFIED)/$(call texture,$(c)) $(RECTIFIED)/$(call true_d
 		$(RECTIFIED)/cameras.txt &: $(CHAIN)/calibrated_cameras.txt \
 		$(foreach c,$(CAMS),$(DISTORTED)/$(call texture,$(c)) $(DISTORTED)/$(call true_depth,$(c)))
 	$(BIN)/mvtools rectify $(CHAIN)/calibrated_cameras.txt -o $(RECTIFIED) --virtual 1 \
-	    $(foreach c,$(CAMS),--texture cam$(c) $(DISTORTED)/$(call texture,$(c))) \
+	    $(foreach c,$(CAMS),--view cam$(c) $(DISTORTED)/$(call texture,$(c))) \
 	    $(foreach c,$(CAMS),--depth cam$(c) $(DISTORTED)/$(call true_depth,$(c))) --depth-range 2 13
 
 $(foreach c,$(CAMS),$(CORRECTED)/$(call texture,$(c)) $(CORRECTED)/cam$(c).lut.txt) &: \
@@ -247,7 +247,7 @@ $$($(1)_out)/$$($(1)_right).pfm: $(2)/$$($(1)_left).png $(2)/$$($(1)_right).png 
 
 $$($(1)_out)/%_depth_$(6)_yuv420p.yuv: $$($(1)_out)/%.pfm
 	$(BIN)/mvtools convert $$< --from disparity --focal 1 --baseline $(5) \
-	    --znear $$($(1)_znear) --zfar $$($(1)_zfar) -o $$@
+	    --depth-range $$($(1)_znear) $$($(1)_zfar) -o $$@
 
 $$($(1)_out)/synthesized_$$($(1)_middle)_$(6)_yuv420p.yuv: \
 		$$(foreach view,$$($(1)_left) $$($(1)_right),$$($(1)_out)/$$(view)_$(6)_yuv420p.yuv \

@@ -27,10 +27,10 @@ def rectify_run(out: Path, chunk):
         "-o",
         out,
         *chunk,
-        "--texture",
+        "--view",
         "cam1",
         DISTORTED / TEXTURE.format(1),
-        "--texture",
+        "--view",
         "cam3",
         DISTORTED / TEXTURE.format(3),
     ), out / TEXTURE.format(1)

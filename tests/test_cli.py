@@ -228,9 +228,8 @@ def test_convert_depth_8_to_16_bit_keeps_meaning_and_z_is_exact(tmp_path):
         "--depth",
         "--to",
         "z",
-        "--znear",
+        "--depth-range",
         2,
-        "--zfar",
         10,
         "-o",
         tmp_path / "z.pfm",
@@ -245,9 +244,8 @@ def test_convert_depth_8_to_16_bit_keeps_meaning_and_z_is_exact(tmp_path):
         tmp_path / "z.pfm",
         "--from",
         "z",
-        "--znear",
+        "--depth-range",
         2,
-        "--zfar",
         10,
         "-o",
         tmp_path / "back_4x2_yuv420p.yuv",
@@ -263,7 +261,7 @@ def test_convert_negative_depth_range_gives_signed_z_and_positive_disparity(tmp_
     luma = np.array([[0, 255], [128, 64]], np.uint8)
     chroma = np.full((1, 1), 128, np.uint8)
     write_video(tmp_path / "d.yuv", fmt, [(luma, chroma, chroma)])
-    common = ("--size", "2x2", "--depth", "--znear", -2, "--zfar", -10)
+    common = ("--size", "2x2", "--depth", "--depth-range", -2, -10)
     code, _, err = run(
         "convert", tmp_path / "d.yuv", *common, "--to", "z", "-o", tmp_path / "z.pfm"
     )
@@ -294,9 +292,8 @@ def test_convert_negative_depth_range_gives_signed_z_and_positive_disparity(tmp_
             tmp_path / source,
             "--from",
             quantity,
-            "--znear",
+            "--depth-range",
             -2,
-            "--zfar",
             -10,
             *extra,
             "-o",
@@ -382,15 +379,14 @@ def test_znear_not_below_zfar(tmp_path):
             "x.pfm",
             "--from",
             "z",
-            "--znear",
+            "--depth-range",
             znear,
-            "--zfar",
             zfar,
             "-o",
             tmp_path / "d.yuv",
         )
         assert code == 2
-        assert_one_line_error(err, "--znear", message)
+        assert_one_line_error(err, "--depth-range", message)
 
 
 def test_non_numeric_value(tmp_path):
@@ -418,9 +414,8 @@ def test_convert_cameras_text_to_json_and_back_keeps_projections(tmp_path):
         tmp_path / "c.json",
         "--size",
         "1024x768",
-        "--znear",
+        "--depth-range",
         2000,
-        "--zfar",
         9000,
     )
     assert code == 0, err

@@ -104,9 +104,8 @@ def test_json_pixel_centres_are_half_a_pixel_past_the_text_files(tmp_path):
         tmp_path / "rig.txt",
         "-o",
         tmp_path / "rig.json",
-        "--znear",
+        "--depth-range",
         0.5,
-        "--zfar",
         40,
     )
     assert code == 0, stderr
@@ -141,9 +140,8 @@ def test_cones_converts_to_the_hand_written_rvs_file(tmp_path):
         tmp_path / "cones.json",
         "--size",
         "448x368",
-        "--znear",
+        "--depth-range",
         72.727273,
-        "--zfar",
         888.888889,
         "--fps",
         1,
@@ -266,7 +264,7 @@ def test_negative_vsrs_depth_range_is_written_in_front_of_the_cameras(tmp_path):
     )
     write_cameras(tmp_path / "n.txt", [camera])
     code, _, stderr = invoke(
-        convert.command, tmp_path / "n.txt", "-o", tmp_path / "n.json", "--znear", -2, "--zfar", -50
+        convert.command, tmp_path / "n.txt", "-o", tmp_path / "n.json", "--depth-range", -2, -50
     )
     assert code == 0, stderr
     assert "reflected through its origin" in stderr
@@ -298,9 +296,8 @@ def test_depth_ranges_that_face_no_way_are_refused(tmp_path, znear, zfar, fragme
         tmp_path / "rig.txt",
         "-o",
         tmp_path / "rig.json",
-        "--znear",
+        "--depth-range",
         znear,
-        "--zfar",
         zfar,
     )
     assert code == 2

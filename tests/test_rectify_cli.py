@@ -66,7 +66,7 @@ def rectified(tmp_path_factory):
     out = tmp_path_factory.mktemp("rectified")
     arguments = [DISTORTED / "cameras.txt", "-o", out, "--depth-range", 2, 13]
     for view in (1, 2, 3):
-        arguments += ["--texture", f"cam{view}", DISTORTED / TEXTURE.format(view)]
+        arguments += ["--view", f"cam{view}", DISTORTED / TEXTURE.format(view)]
     for view in (1, 3):
         arguments += ["--depth", f"cam{view}", DISTORTED / DEPTH.format(view)]
     code, stdout, stderr = invoke(rectify.command, *arguments)
@@ -147,10 +147,10 @@ def test_frame_range_streams_only_the_frames_asked(tmp_path):
         DISTORTED / "cameras.txt",
         "-o",
         tmp_path,
-        "--texture",
+        "--view",
         "cam1",
         DISTORTED / TEXTURE.format(1),
-        "--texture",
+        "--view",
         "cam3",
         DISTORTED / TEXTURE.format(3),
         "--start-frame",
@@ -192,7 +192,7 @@ def test_published_linear_array_rectifies_to_one_orientation(tmp_path):
         ([], 2, "--camera"),
         (
             [
-                "--texture",
+                "--view",
                 "cam1",
                 str(DISTORTED / TEXTURE.format(1)),
                 "--camera",
@@ -234,7 +234,7 @@ def test_published_linear_array_rectifies_to_one_orientation(tmp_path):
                 "cam3",
                 "--camera-size",
                 "320x240",
-                "--texture",
+                "--view",
                 "cam1",
                 str(DISTORTED / TEXTURE.format(1)),
             ],
@@ -261,10 +261,10 @@ def test_refuses_to_overwrite_its_input(tmp_path):
         tmp_path / "cameras.txt",
         "-o",
         tmp_path,
-        "--texture",
+        "--view",
         "cam1",
         tmp_path / TEXTURE.format(1),
-        "--texture",
+        "--view",
         "cam3",
         tmp_path / TEXTURE.format(3),
     )
@@ -278,7 +278,7 @@ def test_undistort_keeps_each_camera_where_it_looks(tmp_path):
         rectify.command,
         DISTORTED / "cameras.txt",
         "--undistort",
-        "--texture",
+        "--view",
         "cam4",
         DISTORTED / TEXTURE.format(4),
         "-o",

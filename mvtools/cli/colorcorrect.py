@@ -8,12 +8,14 @@ import click
 import numpy as np
 
 from mvtools.cli.options import (
-    DEPTH,
     ProgramCommand,
+    depth_range_option,
+    depth_video_option,
     frame_range_options,
     program,
     transposed_rotation_option,
     video_format_options,
+    view_option,
 )
 from mvtools.cli.progress import Progress
 from mvtools.color.correct import SPACES
@@ -26,14 +28,9 @@ from mvtools.run.colorcorrect import CORRECTION_TARGETS, ColourCorrectionOptions
 
 
 @click.command(name="colorcorrect", cls=ProgramCommand)
-@click.option(
-    "--view",
-    "views",
-    multiple=True,
-    nargs=2,
+@view_option(
+    "A view to correct: the texture video of camera NAME (repeatable, in the array's order).",
     required=True,
-    metavar="NAME VIDEO",
-    help="A view to correct: its camera name and texture video (repeatable, in the array's order).",
 )
 @click.option(
     "--reference",
@@ -90,24 +87,11 @@ from mvtools.run.colorcorrect import CORRECTION_TARGETS, ColourCorrectionOptions
     "the pixels that show the same scene point in both views; without, the "
     "histograms are taken over the field of view both cameras share.",
 )
-@click.option(
-    "--depth",
-    "depths",
-    multiple=True,
-    nargs=2,
-    metavar="NAME VIDEO",
-    help="Depth map video of a view (MPEG convention, repeatable). Without depth "
-    "for a view and the reference, their cumulative histograms are matched.",
+@depth_video_option(
+    "Depth map video of a view (MPEG convention, repeatable). Without depth "
+    "for a view and the reference, their cumulative histograms are matched."
 )
-@click.option(
-    "--depth-range",
-    nargs=2,
-    type=DEPTH,
-    default=None,
-    metavar="ZNEAR ZFAR",
-    help="Znear and Zfar of the depth maps (default: the cameras' Depth_range in "
-    "an MPEG-I JSON camera file).",
-)
+@depth_range_option(default="the cameras' Depth_range in an MPEG-I JSON camera file")
 @click.option(
     "--space",
     type=click.Choice(SPACES),

@@ -8,10 +8,10 @@ from pathlib import Path
 import click
 
 from mvtools.cli.options import (
-    DEPTH,
     FINITE,
     POSITIVE,
     ProgramCommand,
+    depth_range_option,
     frame_range_options,
     program,
     transposed_rotation_option,
@@ -84,8 +84,7 @@ from mvtools.run.convert import (
     default=None,
     help="PFM images of z or disparity -> depth video.",
 )
-@click.option("--znear", type=DEPTH, default=None, help="Depth of the largest depth value.")
-@click.option("--zfar", type=DEPTH, default=None, help="Depth of depth value 0.")
+@depth_range_option(of="the depth video or the cameras (their Depth_range)")
 @click.option("--focal", type=FINITE, default=None, help="Focal length in pixels (disparity).")
 @click.option(
     "--baseline", type=FINITE, default=None, help="Baseline, in the units of z (disparity)."
@@ -110,8 +109,7 @@ def command(
     preview,
     to_quantity,
     from_quantity,
-    znear,
-    zfar,
+    depth_range,
     focal,
     baseline,
     fps,
@@ -127,16 +125,16 @@ def command(
     layout.
     Video -> one image per frame (RGB, or grey depth with --depth; --preview for
     8-bit pictures, colour-mapped for depth).
-    Depth video -> PFM of z or disparity (--depth --to z|disparity, with --znear --zfar).
-    PFM of z or disparity -> depth video (--from z|disparity, with --znear --zfar).
+    Depth video -> PFM of z or disparity (--depth --to z|disparity, with --depth-range).
+    PFM of z or disparity -> depth video (--from z|disparity, with --depth-range).
     MPEG camera parameter file <-> MPEG-I JSON sequence file (.json; --size,
-    --znear/--zfar, --fps and --frames fill Resolution, Depth_range, Fps and
+    --depth-range, --fps and --frames fill Resolution, Depth_range, Fps and
     Frames_number; JSON -> JSON keeps the input's fields unless given).
     """
     output = Path(output)
     first = Path(inputs[0])
     if ".json" in (output.suffix.lower(), first.suffix.lower()):
-        _convert_cameras(inputs, output, size, znear, zfar, fps, frame_count, transposed_rotation)
+        _convert_cameras(inputs, output, size, depth_range, fps, frame_count, transposed_rotation)
         return
     out_is_video = output.suffix.lower() in VIDEO_EXTENSIONS
     if not out_is_video and output.suffix.lower() not in IMAGE_EXTENSIONS:
@@ -169,7 +167,7 @@ def command(
             "frame_count": frame_count,
         }
         if to_quantity is not None:
-            depth_range = _range(znear, zfar)
+            depth_range = _range(depth_range)
             if output.suffix.lower() != ".pfm":
                 raise UsageError("--to writes PFM images (e.g. z_%03d.pfm)", path=output)
             values = _depth_values(to_quantity, depth_range, focal, baseline)
@@ -203,19 +201,20 @@ def command(
             key="--to",
         )
     if from_quantity is not None:
-        values = _depth_values(from_quantity, _range(znear, zfar), focal, baseline)
+        values = _depth_values(from_quantity, _range(depth_range), focal, baseline)
         pfm_to_depth_video(inputs, output, values, out_pix_fmt=out_pix_fmt or "yuv420p")
     else:
         images_to_video(inputs, output, out_pix_fmt=out_pix_fmt or "yuv420p")
 
 
 def _convert_cameras(
-    inputs, output: Path, size, znear, zfar, fps, frame_count, transposed_rotation
+    inputs, output: Path, size, depth_range, fps, frame_count, transposed_rotation
 ):
     if len(inputs) != 1:
         raise UsageError("give one camera file at a time")
     source = Path(inputs[0])
-    depth_range = _camera_depth_range(znear, zfar)
+    # negative ranges (VSRS) are the writer's to turn
+    depth_range = tuple(depth_range) if depth_range else None
     if source.suffix.lower() != ".json":
         write_json_cameras(
             output,
@@ -240,21 +239,12 @@ def _convert_cameras(
         write_json_sequence(output, sequence)
 
 
-def _camera_depth_range(znear, zfar) -> tuple[float, float] | None:
-    """``Depth_range`` from --znear/--zfar; negative ranges (VSRS) are the writer's to turn."""
-    if (znear, zfar) == (None, None):
-        return None
-    if znear is None or zfar is None:
-        raise UsageError("give both --znear and --zfar for the cameras' Depth_range")
-    return znear, zfar
-
-
-def _range(znear, zfar) -> tuple[float, float]:
-    if znear is None or zfar is None:
-        raise UsageError("--znear and --zfar are needed to interpret depth values")
-    with at_fault(UsageError, key="--znear/--zfar"):
-        check_depth_range(znear, zfar)
-    return znear, zfar
+def _range(depth_range) -> tuple[float, float]:
+    if not depth_range:
+        raise UsageError("--depth-range ZNEAR ZFAR is needed to interpret depth values")
+    with at_fault(UsageError, key="--depth-range"):
+        check_depth_range(*depth_range)
+    return tuple(depth_range)
 
 
 def _depth_values(quantity, depth_range, focal, baseline) -> DepthValues:

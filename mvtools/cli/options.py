@@ -292,6 +292,41 @@ def frame_range_options(function):
     )(function)
 
 
+def depth_range_option(name: str = "--depth-range", *, of: str = "the depth maps", default=None):
+    """``--depth-range ZNEAR ZFAR``: the one spelling of a depth map's Znear and Zfar
+    (``--output-depth-range``, ``--reference-depth-range`` where a program has two)."""
+    return click.option(
+        name,
+        nargs=2,
+        type=DEPTH,
+        default=None,
+        metavar="ZNEAR ZFAR",
+        help=f"Znear (depth value 255) and Zfar (depth value 0) of {of}"
+        + (f" (default: {default})." if default else "."),
+    )
+
+
+def view_option(help: str, *, required: bool = False):
+    """``--view NAME VIDEO`` (repeatable): the texture video of camera NAME, in every
+    program that takes views."""
+    return click.option(
+        "--view",
+        "views",
+        multiple=True,
+        nargs=2,
+        required=required,
+        metavar="NAME VIDEO",
+        help=help,
+    )
+
+
+def depth_video_option(help: str):
+    """``--depth NAME VIDEO`` (repeatable): the depth video of camera NAME."""
+    return click.option(
+        "--depth", "depths", multiple=True, nargs=2, metavar="NAME VIDEO", help=help
+    )
+
+
 transposed_rotation_option = click.option(
     "--transposed-rotation",
     is_flag=True,

@@ -7,14 +7,16 @@ from typing import TYPE_CHECKING
 import click
 
 from mvtools.cli.options import (
-    DEPTH,
     FiniteFloat,
     ProgramCommand,
+    depth_range_option,
+    depth_video_option,
     frame_range_options,
     parse_size,
     program,
     transposed_rotation_option,
     video_format_options,
+    view_option,
 )
 from mvtools.cli.progress import Progress
 from mvtools.errors import UsageError, at_fault
@@ -35,34 +37,15 @@ if TYPE_CHECKING:
     multiple=True,
     metavar="NAME",
     help="A camera of the array, in order along it (repeatable; default: the "
-    "cameras of --texture and --depth, in the order given).",
+    "cameras of --view and --depth, in the order given).",
 )
-@click.option(
-    "--texture",
-    "textures",
-    multiple=True,
-    nargs=2,
-    metavar="CAMERA VIDEO",
-    help="A texture video of a camera to rectify (repeatable).",
+@view_option("A texture video of camera NAME to rectify (repeatable).")
+@depth_video_option(
+    "A depth map video of camera NAME (MPEG: 255 or 65535 = Znear), sampled at the "
+    "nearest pixel and re-measured along the rectified camera's axis (repeatable)."
 )
-@click.option(
-    "--depth",
-    "depths",
-    multiple=True,
-    nargs=2,
-    metavar="CAMERA VIDEO",
-    help="A depth map video of a camera (MPEG: 255 or 65535 = Znear), sampled at the "
-    "nearest pixel and re-measured along the rectified camera's axis "
-    "(repeatable).",
-)
-@click.option(
-    "--depth-range",
-    nargs=2,
-    type=DEPTH,
-    default=None,
-    metavar="ZNEAR ZFAR",
-    help="Znear and Zfar of the depth maps (default: the cameras' Depth_range of an "
-    "MPEG-I JSON camera file); the output keeps them.",
+@depth_range_option(
+    default="the cameras' Depth_range of an MPEG-I JSON camera file; the output keeps them"
 )
 @click.option(
     "--undistort",
@@ -123,7 +106,7 @@ if TYPE_CHECKING:
 def command(
     camera_file,
     camera_names,
-    textures,
+    views,
     depths,
     depth_range,
     undistort_only,
@@ -152,9 +135,9 @@ def command(
         with at_fault(UsageError, key="--depth-range"):
             check_depth_range(*depth_range)
     cameras = read_camera_file(camera_file, transposed_rotation=transposed_rotation)
-    names = list(camera_names) or list(dict.fromkeys(name for name, _ in (*textures, *depths)))
+    names = list(camera_names) or list(dict.fromkeys(name for name, _ in (*views, *depths)))
     if not names:
-        raise UsageError("name the cameras to rectify with --camera, --texture or --depth")
+        raise UsageError("name the cameras to rectify with --camera, --view or --depth")
     options = RectifyOptions(
         undistort_only=undistort_only,
         alpha=alpha,
@@ -166,7 +149,7 @@ def command(
     result = rectify_videos(
         [get_camera(cameras, name, path=camera_file) for name in names],
         out_dir=out_dir,
-        textures=_videos_by_camera(textures, "--texture"),
+        textures=_videos_by_camera(views, "--view"),
         depths=_videos_by_camera(depths, "--depth"),
         options=options,
         cameras_out=cameras_out,

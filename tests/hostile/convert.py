@@ -38,7 +38,7 @@ def pfm(name: str, values) -> Callable[[Path], None]:
     return write(name, header + values[::-1].tobytes())
 
 
-DEPTH = ("--depth", "--znear", "1", "--zfar", "10")
+DEPTH = ("--depth", "--depth-range", "1", "10")
 TEN_BIT = np.full(4 * 2 * 3 // 2, 64, "<u2")
 TEN_BIT[3] = 4000  # above the 10-bit maximum 1023
 
@@ -141,7 +141,7 @@ CASES = [
         "convert depth to z without a depth range",
         ("convert", VIDEO, "--depth", "--to", "z", "-o", "z_%03d.pfm"),
         2,
-        r"--znear and --zfar are needed",
+        r"--depth-range ZNEAR ZFAR is needed",
         VIDEO_FILE,
     ),
     Case(
@@ -276,9 +276,8 @@ CASES = [
             "d.pfm",
             "--from",
             "disparity",
-            "--znear",
+            "--depth-range",
             "1",
-            "--zfar",
             "10",
             "--focal",
             "100",
@@ -301,14 +300,14 @@ CASES = [
     ),
     Case(
         "convert images with --to",
-        ("convert", "z.pfm", "--to", "z", "--znear", "1", "--zfar", "10", "-o", "o.yuv"),
+        ("convert", "z.pfm", "--to", "z", "--depth-range", "1", "10", "-o", "o.yuv"),
         2,
         r"--to .*depth video",
         pfm("z.pfm", [[2.0, 3.0], [4.0, 5.0]]),
     ),
     Case(
         "convert a video with --from",
-        ("convert", VIDEO, "--from", "z", "--znear", "1", "--zfar", "10", "-o", "o.yuv"),
+        ("convert", VIDEO, "--from", "z", "--depth-range", "1", "10", "-o", "o.yuv"),
         2,
         r"--from .*PFM images",
         VIDEO_FILE,
@@ -316,7 +315,7 @@ CASES = [
     # --- data the conversion cannot use is the file's fault (exit 1, naming it)
     Case(
         "convert a z image holding NaN",
-        ("convert", "z.pfm", "--from", "z", "--znear", "1", "--zfar", "10", "-o", "o.yuv"),
+        ("convert", "z.pfm", "--from", "z", "--depth-range", "1", "10", "-o", "o.yuv"),
         1,
         r"z.pfm: .*z must not be 0 or NaN",
         pfm("z.pfm", [[2.0, np.nan], [4.0, 5.0]]),
@@ -328,9 +327,8 @@ CASES = [
             "d.pfm",
             "--from",
             "disparity",
-            "--znear",
+            "--depth-range",
             "1",
-            "--zfar",
             "10",
             "--focal",
             "100",
