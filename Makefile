@@ -155,7 +155,7 @@ $(CHAIN)/synthesized_v%.scores: $(CHAIN)/synthesized_v%_$(VIEW)
 
 # the estimated depth of each camera against the truth, as disparities towards a neighbour
 $(CHAIN)/estimated_v%_depth.errors.json: $(call depth,%) $(RECTIFIED)/$(call true_depth,%)
-	$(BIN)/mvtools evaluate --depth $(RECTIFIED)/$(call true_depth,$*) $< --reference-range 2 13 \
+	$(BIN)/mvtools evaluate --depth $(RECTIFIED)/$(call true_depth,$*) $< --reference-depth-range 2 13 \
 	    --cameras $(RECTIFIED)/cameras.txt --camera cam$* \
 	    --neighbour cam$(or $(right_of_$*),$(left_of_$*)) --json-file $@ > $(@:.json=.txt)
 DEPTH_ERRORS := $(foreach c,$(CAMS),$(CHAIN)/estimated_v$(c)_depth.errors.json)

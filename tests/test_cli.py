@@ -117,7 +117,7 @@ def test_evaluate_depth_videos_as_disparities_towards_the_neighbour(tmp_path):
         "--depth",
         videos["truth"],
         videos["test"],
-        "--reference-range",
+        "--reference-depth-range",
         1,
         100,
         "--cameras",
@@ -146,7 +146,7 @@ def test_evaluate_depth_videos_as_disparities_towards_the_neighbour(tmp_path):
 @pytest.mark.parametrize(
     "change, fragments",
     [
-        (("--test-range", None), ("--test-range", "test_8x4_gray16le.yuv.json")),
+        (("--test-depth-range", None), ("--test-depth-range", "test_8x4_gray16le.yuv.json")),
         (("--neighbour", "c"), ("--neighbour", "no camera 'c'", "cameras.txt")),
         (("--camera", None), ("--depth needs --camera",)),
     ],
@@ -154,8 +154,8 @@ def test_evaluate_depth_videos_as_disparities_towards_the_neighbour(tmp_path):
 def test_evaluate_depth_bad_input(tmp_path, change, fragments):
     cameras, videos = _depth_case(tmp_path)
     options = {
-        "--reference-range": (1, 100),
-        "--test-range": (1, 100),
+        "--reference-depth-range": (1, 100),
+        "--test-depth-range": (1, 100),
         "--cameras": (cameras,),
         "--camera": ("a",),
         "--neighbour": ("b",),

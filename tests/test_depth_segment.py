@@ -1,4 +1,5 @@
-"""Segment-based disparity planes (mvtools.depth.segment): segmentation of a
+"""Segment-based disparity planes (mvtools.depth.oversegment, .segment and
+.plane_selection): segmentation of a
 piecewise-constant image, exact planes despite outliers, the plane fill, and a slanted
 plane pair whose exact disparity is known."""
 

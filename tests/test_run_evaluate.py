@@ -253,16 +253,16 @@ def test_disparity_geometry_from_a_camera_file(tmp_path):
 
 def test_video_depth_range_given_or_from_the_sidecar(tmp_path):
     video = tmp_path / "depth.yuv"
-    assert video_depth_range(video, (2.0, 13.0), option="--test-range") == (2.0, 13.0)
-    with pytest.raises(UsageError, match="give --test-range"):
-        video_depth_range(video, option="--test-range")
+    assert video_depth_range(video, (2.0, 13.0), option="--test-depth-range") == (2.0, 13.0)
+    with pytest.raises(UsageError, match="give --test-depth-range"):
+        video_depth_range(video, option="--test-depth-range")
     (tmp_path / "depth.yuv.json").write_text(
         json.dumps({"NearestDepthValue": 2.0, "FarthestDepthValue": None})
     )
-    assert video_depth_range(video, option="--test-range") == (2.0, math.inf)
+    assert video_depth_range(video, option="--test-depth-range") == (2.0, math.inf)
     (tmp_path / "depth.yuv.json").write_text(json.dumps({"NearestDepthValue": 2.0, "DepthType": 1}))
     with pytest.raises(DataError, match="DepthType 1"):
-        video_depth_range(video, option="--test-range")
+        video_depth_range(video, option="--test-depth-range")
 
 
 # --------------------------------------------------------------------------- start-up

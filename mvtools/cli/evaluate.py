@@ -11,9 +11,9 @@ from pathlib import Path
 import click
 
 from mvtools.cli.options import (
-    DEPTH,
     FINITE,
     ProgramCommand,
+    depth_range_option,
     frame_range_options,
     program,
     video_format_options,
@@ -101,23 +101,12 @@ from mvtools.run.evaluate import (
     help="--depth: the camera the disparities point to (rectified cameras: "
     "disparity = fx * baseline / z).",
 )
-@click.option(
-    "--reference-range",
-    nargs=2,
-    type=DEPTH,
-    default=None,
-    metavar="ZNEAR ZFAR",
-    help="--depth: Znear, Zfar of REFERENCE (default: its sidecar REFERENCE.json, "
-    "as estimate-depth writes).",
+@depth_range_option(
+    "--reference-depth-range",
+    of="--depth's REFERENCE",
+    default="its sidecar REFERENCE.json, as estimate-depth writes",
 )
-@click.option(
-    "--test-range",
-    nargs=2,
-    type=DEPTH,
-    default=None,
-    metavar="ZNEAR ZFAR",
-    help="--depth: Znear, Zfar of TEST (default: its sidecar TEST.json).",
-)
+@depth_range_option("--test-depth-range", of="--depth's TEST", default="its sidecar TEST.json")
 @click.option(
     "--threshold",
     "thresholds",
@@ -150,8 +139,8 @@ def command(
     cameras,
     camera,
     neighbour,
-    reference_range,
-    test_range,
+    reference_depth_range,
+    test_depth_range,
     thresholds,
     as_json,
     json_file,
@@ -196,9 +185,9 @@ def command(
             test,
             disparity_geometry(cameras, camera, neighbour),
             reference_range=video_depth_range(
-                reference, reference_range, option="--reference-range"
+                reference, reference_depth_range, option="--reference-depth-range"
             ),
-            test_range=video_depth_range(test, test_range, option="--test-range"),
+            test_range=video_depth_range(test, test_depth_range, option="--test-depth-range"),
             size=size,
             pix_fmt=pix_fmt,
             start_frame=start_frame,

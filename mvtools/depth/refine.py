@@ -49,7 +49,7 @@ def clean_up(
     median_size : int
         Final plain median, 3 or 5.
     segments : ndarray of int, shape (H, W), optional
-        Over-segmentation of the left view (:func:`mvtools.depth.segment.segment_image`).
+        Over-segmentation of the left view (:func:`mvtools.depth.oversegment.segment_image`).
 
     Returns
     -------

@@ -77,9 +77,9 @@ def estimate_disparity(
     segment_planes : bool
         Colour segments of the left view whose robust disparity plane matches about as
         well as the method's disparities (matching costs at most 10 % higher) take the
-        plane (:func:`mvtools.depth.segment.select_segment_planes`), and pixels within
+        plane (:func:`mvtools.depth.plane_selection.select_segment_planes`), and pixels within
         two columns of a depth step that lie in front of their segment's plane take it
-        (:func:`mvtools.depth.segment.trim_fattening`), before the clean-up.
+        (:func:`mvtools.depth.plane_selection.trim_fattening`), before the clean-up.
     segmentation : bool
         Fill the pixels that fail the left-right check from robust disparity planes of
         colour segments of the left view where a plane explains the segment's checked
@@ -227,8 +227,8 @@ def estimate_disparity(
 
 
 def _on_segment_planes(disparity, other, view, segments, cost, *, min_disparity, subpixel):
-    """A view's disparities after :func:`mvtools.depth.segment.select_segment_planes` and
-    :func:`mvtools.depth.segment.trim_fattening`, the reliable pixels being those that
+    """A view's disparities after :func:`mvtools.depth.plane_selection.select_segment_planes` and
+    :func:`mvtools.depth.plane_selection.trim_fattening`, the reliable pixels being those that
     the other view's disparities ``other`` confirm."""
     disparity = np.ascontiguousarray(disparity, np.float32)
     valid = left_right_consistent(disparity, np.ascontiguousarray(other, np.float32))

@@ -352,7 +352,7 @@ def video_depth_range(
     """Znear, Zfar of a depth video: ``given``, or else its JSON sidecar's
     (``VIDEO.json``, as ``mvtools estimate-depth`` writes it).
 
-    ``option`` names the place that gives the range instead (``"--test-range"``), in
+    ``option`` names the place that gives the range instead (``"--test-depth-range"``), in
     the error of a bad ``given`` range or of a missing sidecar.
 
     Raises

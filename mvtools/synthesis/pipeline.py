@@ -7,7 +7,7 @@ reference views into a :class:`~mvtools.synthesis.views.SynthesisResult`:
 1. warp every reference into the virtual camera (general mode:
    :class:`~mvtools.synthesis.general.GeneralWarper`; 1D mode:
    :class:`~mvtools.synthesis.oned.OneDWarper` after the reference depth has been
-   through :class:`~mvtools.synthesis.oned.TemporalDepthFilter` when
+   through :class:`~mvtools.synthesis.temporal.TemporalDepthFilter` when
    ``temporal_improvement`` is on);
 2. with ``boundary_noise_removal``, turn each warped view's background-side fringe
    into holes (:func:`~mvtools.synthesis.boundary.remove_boundary_noise`);

@@ -26,7 +26,7 @@ DEPTH = (
     "--frames",
     "1",
 )
-RANGES = ("--reference-range", "2", "13", "--test-range", "2", "13")
+RANGES = ("--reference-depth-range", "2", "13", "--test-depth-range", "2", "13")
 
 
 def _pgm(width: int, height: int, offset: int = 0) -> bytes:
@@ -270,17 +270,17 @@ CASES = [
         outputs=("d.errors.json",),
     ),
     Case(
-        "evaluate --depth --reference-range 13 2",
-        (*DEPTH, "--reference-range", "13", "2", "--test-range", "2", "13"),
+        "evaluate --depth --reference-depth-range 13 2",
+        (*DEPTH, "--reference-depth-range", "13", "2", "--test-depth-range", "2", "13"),
         2,
-        r"--reference-range: Znear 13 is farther than Zfar 2",
+        r"--reference-depth-range: Znear 13 is farther than Zfar 2",
         DEPTHS,
     ),
     Case(
-        "evaluate --depth --test-range 0 13",
-        (*DEPTH, "--reference-range", "2", "13", "--test-range", "0", "13"),
+        "evaluate --depth --test-depth-range 0 13",
+        (*DEPTH, "--reference-depth-range", "2", "13", "--test-depth-range", "0", "13"),
         2,
-        r"--test-range: Znear must be finite and not 0",
+        r"--test-depth-range: Znear must be finite and not 0",
         DEPTHS,
     ),
     Case(
@@ -327,19 +327,19 @@ CASES = [
         "evaluate --depth without a range or a sidecar",
         DEPTH,
         2,
-        rf"{TRUTH}: the depth range is unknown: give --reference-range",
+        rf"{TRUTH}: the depth range is unknown: give --reference-depth-range",
         DEPTHS,
     ),
     Case(
         "evaluate --depth, a sidecar that is not JSON",
-        (*DEPTH, "--test-range", "2", "13"),
+        (*DEPTH, "--test-depth-range", "2", "13"),
         2,
         rf"{TRUTH}.json:1: invalid JSON",
         together(DEPTHS, write(f"{TRUTH}.json", "{NearestDepthValue: 2")),
     ),
     Case(
         "evaluate --depth, a sidecar without NearestDepthValue",
-        (*DEPTH, "--test-range", "2", "13"),
+        (*DEPTH, "--test-depth-range", "2", "13"),
         2,
         rf"{TRUTH}.json: no NearestDepthValue",
         together(DEPTHS, write(f"{TRUTH}.json", "[2, 13]")),
