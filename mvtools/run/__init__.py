@@ -49,6 +49,14 @@ _EXPORTS: dict[str, str] = {
     "evaluate_depth_videos": "evaluate",
     "DisparityGeometry": "evaluate",
     "disparity_geometry": "evaluate",
+    "pack_views": "pack",
+    "unpack_views": "pack",
+    "PackOptions": "pack",
+    "PackedViews": "pack",
+    "pack_frames": "pack",
+    "write_unpacked": "pack",
+    "rd_experiment": "encode",
+    "EncoderSettings": "encode",
 }
 
 __all__ = sorted(_EXPORTS)
