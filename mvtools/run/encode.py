@@ -148,16 +148,15 @@ def rd_experiment(
     ValueError
         No QP, a QP outside 0-51, or an unknown mode.
     """
-    # both programs are needed (ffmpeg decodes): say so before anything is written
-    for name in dict.fromkeys((settings.encoder, "ffmpeg")):
-        program_path(name)
     modes = tuple(dict.fromkeys(modes))
-    unknown = [mode for mode in modes if mode not in MODES]
-    if unknown or not modes:
+    if not modes or any(mode not in MODES for mode in modes):
         raise ValueError(f"modes must be some of {', '.join(MODES)}, got {modes}")
     qps = sorted(set(qps))
     if not qps or not all(0 <= qp <= 51 for qp in qps):
         raise ValueError(f"give one QP or more, each 0-51, got {qps}")
+    # both programs are needed (ffmpeg decodes): say so before anything is written
+    for name in dict.fromkeys((settings.encoder, "ffmpeg")):
+        program_path(name)
     out = Path(out_dir)
     streams = {(name, "texture"): Path(path) for name, path in views.items()}
     streams.update({(name, "depth"): Path(path) for name, path in (depths or {}).items()})
