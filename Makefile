@@ -243,7 +243,7 @@ $$($(1)_out)/$$($(1)_left).pfm: $(2)/$$($(1)_left).png $(2)/$$($(1)_right).png |
 $$($(1)_out)/$$($(1)_right).pfm: $(2)/$$($(1)_left).png $(2)/$$($(1)_right).png | install
 	mkdir -p $$(@D)
 	$(BIN)/mvtools estimate-depth --left $(2)/$$($(1)_left).png --right $(2)/$$($(1)_right).png \
-	    --view right --disparities $(4) -o $$@
+	    --disparity-of right --disparities $(4) -o $$@
 
 $$($(1)_out)/%_depth_$(6)_yuv420p.yuv: $$($(1)_out)/%.pfm
 	$(BIN)/mvtools convert $$< --from disparity --focal 1 --baseline $(5) \

@@ -202,7 +202,7 @@ def test_the_right_views_disparity(tmp_path):
         cones / "im6.png",
         "--disparities",
         64,
-        "--view",
+        "--disparity-of",
         "right",
         "-o",
         tmp_path / "d.pfm",

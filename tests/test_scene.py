@@ -451,10 +451,8 @@ def _run_scene(folder, *extra):
     args = [
         "scene",
         str(folder),
-        "--width",
-        "64",
-        "--height",
-        "48",
+        "--size",
+        "64x48",
         "--frames",
         "2",
         "--views",
@@ -462,8 +460,7 @@ def _run_scene(folder, *extra):
         "--captures",
         "2",
         "--capture-size",
-        "160",
-        "120",
+        "160x120",
         *extra,
     ]
     return CliRunner().invoke(cli, args)
@@ -580,7 +577,7 @@ def test_scene_program_is_deterministic(sample_folder, tmp_path):
 
 
 def test_scene_program_rejects_sizes_off_the_grid(tmp_path):
-    result = _run_scene(tmp_path / "out", "--width", "60")
+    result = _run_scene(tmp_path / "out", "--size", "60x48")
     assert result.exit_code == 2
     assert "multiples of 8" in result.output
 

@@ -139,11 +139,20 @@ def test_more_than_two_references_with_view_option(tmp_path):
             "--view",
             f"cam{index}",
             ARC / f"v{index}_texture_256x192_yuv420p.yuv",
+            "--depth",
+            f"cam{index}",
             ARC / f"v{index}_depth_256x192_yuv420p.yuv",
-            ZNEAR,
-            ZFAR,
         ]
-    code, _, err = run(ARC / "synthesize_cam2.cfg", *views, "--frames", 1, cwd=tmp_path)
+    code, _, err = run(
+        ARC / "synthesize_cam2.cfg",
+        *views,
+        "--depth-range",
+        ZNEAR,
+        ZFAR,
+        "--frames",
+        1,
+        cwd=tmp_path,
+    )
     assert code == 0, err
     score = mean_luma_psnr(ARC / "v2_texture_256x192_yuv420p.yuv", tmp_path / OUTPUT)
     assert score >= ARC_MIN_PSNR - 1
@@ -546,16 +555,17 @@ def test_mismatched_frame_counts_use_the_shortest(tmp_path):
 
 def test_bad_view_option(tmp_path):
     texture, depth = LINE / "v0_texture_256x192_yuv420p.yuv", LINE / "v0_depth_256x192_yuv420p.yuv"
-    code, _, err = run(
-        LINE / "synthesize_cam2.cfg", "--view", "cam0", texture, depth, 13, 2, cwd=tmp_path
-    )
-    assert code == 2
-    assert_one_line_error(err, "--view cam0", "Znear 13 is farther than Zfar 2")
-    code, _, err = run(
-        LINE / "synthesize_cam2.cfg", "--view", "camX", texture, depth, 2, 13, cwd=tmp_path
-    )
-    assert code == 2
-    assert_one_line_error(err, "--view camX", "no camera 'camX'")
+    config = LINE / "synthesize_cam2.cfg"
+    view = ("--view", "cam0", texture, "--depth", "cam0", depth)
+    for arguments, fault, message in (
+        ((*view, "--depth-range", 13, 2), "--depth-range", "Znear 13 is farther than Zfar 2"),
+        (("--view", "camX", texture, "--depth", "camX", depth), "--view camX", "no camera 'camX'"),
+        (("--view", "cam0", texture), "--view cam0", "give its depth video with --depth cam0"),
+        (("--depth", "cam0", depth), "--depth cam0", "has no --view cam0"),
+    ):
+        code, _, err = run(config, *arguments, cwd=tmp_path)
+        assert code == 2, arguments
+        assert_one_line_error(err, fault, message)
     assert list(tmp_path.iterdir()) == []
 
 

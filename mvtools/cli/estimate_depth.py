@@ -121,7 +121,7 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
     "disparity planes of colour segments.",
 )
 @click.option(
-    "--view",
+    "--disparity-of",
     "pair_view",
     type=click.Choice(("left", "right")),
     default=None,
@@ -134,7 +134,7 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
     type=click.Path(dir_okay=False),
     default=None,
     help="DERS mode: the depth map video (FileOutputDepthMapImage). Stereo-pair "
-    "mode: disparity map of the left view (or --view right), PFM (float "
+    "mode: disparity map of the left view (or --disparity-of right), PFM (float "
     "pixels, inf = unknown).",
 )
 @click.option(
@@ -226,7 +226,7 @@ def command(
         "--cost": cost,
         "--segment-planes/--no-segment-planes": segment_planes,
         "--segmentation": segmentation,
-        "--view": pair_view,
+        "--disparity-of": pair_view,
     }
     if config is not None:
         given = [name for name, value in pair_options.items() if value is not None]

@@ -10,7 +10,7 @@ import click
 import numpy as np
 
 import mvtools
-from mvtools.cli.options import FiniteFloat, ProgramCommand, program
+from mvtools.cli.options import FiniteFloat, ProgramCommand, parse_size, program
 from mvtools.cli.progress import Progress
 from mvtools.color.space import rgb_to_yuv
 from mvtools.errors import UsageError
@@ -32,18 +32,12 @@ DISTORTED_CAPTURES = 20
 @click.command(name="scene", cls=ProgramCommand)
 @click.argument("out_dir", type=click.Path(file_okay=False))
 @click.option(
-    "--width",
-    type=click.IntRange(min=8),
-    default=256,
+    "--size",
+    callback=parse_size,
+    default="256x192",
     show_default=True,
-    help="Picture width of the rig views (a multiple of 8).",
-)
-@click.option(
-    "--height",
-    type=click.IntRange(min=8),
-    default=192,
-    show_default=True,
-    help="Picture height of the rig views (a multiple of 8).",
+    metavar="WxH",
+    help="Picture size of the rig views (multiples of 8).",
 )
 @click.option(
     "--frames",
@@ -82,11 +76,11 @@ DISTORTED_CAPTURES = 20
 )
 @click.option(
     "--capture-size",
-    type=(click.IntRange(min=64), click.IntRange(min=48)),
-    default=(640, 480),
+    callback=parse_size,
+    default="640x480",
     show_default=True,
-    metavar="W H",
-    help="Picture size of the calibration captures.",
+    metavar="WxH",
+    help="Picture size of the calibration captures (at least 64x48).",
 )
 @click.option(
     "--capture-noise",
@@ -106,8 +100,7 @@ DISTORTED_CAPTURES = 20
 @program
 def command(
     out_dir,
-    width,
-    height,
+    size,
     frames,
     views,
     seed,
@@ -129,11 +122,14 @@ def command(
 
     The same options give the same bytes.
     """
+    width, height = size
     if width % 8 or height % 8:
         raise UsageError(
-            f"--width and --height must be multiples of 8 (4:2:0 chroma, VSRS "
-            f"row alignment), got {width}x{height}"
+            f"--size {width}x{height}: width and height must be multiples of 8 (4:2:0 "
+            "chroma, VSRS row alignment)"
         )
+    if capture_size[0] < 64 or capture_size[1] < 48:
+        raise UsageError(f"--capture-size {capture_size[0]}x{capture_size[1]}: at least 64x48")
     # the scene's renderer compiles numba kernels: loaded for a run, not for --help
     from mvtools.scene import calibration_rig, default_scene, random_color_mismatches, sample_rigs
 
@@ -467,9 +463,9 @@ def _readme(
 
 Written by `mvtools scene` (mvtools {mvtools.__version__}, seed {seed}): a synthetic scene
 ray-cast exactly, so every depth, camera and corner position below is known.
-Rebuild with `mvtools scene OUT_DIR --width {width} --height {height} --frames {frames} \
+Rebuild with `mvtools scene OUT_DIR --size {width}x{height} --frames {frames} \
 --views {views} --seed {seed} --samples {samples} --captures {captures} \
---capture-size {capture_size[0]} {capture_size[1]} --capture-noise {capture_noise:g}`;
+--capture-size {capture_size[0]}x{capture_size[1]} --capture-noise {capture_noise:g}`;
 the same options give the same bytes.
 
 ## Scene and conventions

@@ -15,15 +15,18 @@ from pathlib import Path
 import click
 
 from mvtools.cli.options import (
-    DEPTH,
     ProgramCommand,
     data_dir_option,
+    depth_range_option,
+    depth_video_option,
     overrides_argument,
     param_options,
     program,
     transposed_rotation_option,
+    view_option,
 )
 from mvtools.cli.progress import Progress
+from mvtools.errors import UsageError
 from mvtools.io.config import COMMAND_LINE, ConfigEntry, resolve_output_path
 from mvtools.io.loaded_config import command_line_input, load_config
 from mvtools.params import VsrsParams
@@ -48,16 +51,15 @@ _SECONDARY_NAMES = {
 @click.argument("config", type=click.Path(dir_okay=False))
 @overrides_argument
 @data_dir_option
-@click.option(
-    "--view",
-    "extra_views",
-    multiple=True,
-    nargs=5,
-    type=(str, click.Path(dir_okay=False), click.Path(dir_okay=False), float, float),
-    metavar="NAME TEXTURE DEPTH ZNEAR ZFAR",
-    help="A further reference view (repeatable): camera NAME of the camera file, "
-    "its texture and depth videos and their Znear, Zfar. With the left and "
-    "right views of the configuration, or instead of them.",
+@view_option(
+    "A further reference view (repeatable): the texture video of camera NAME of the "
+    "camera file, with its depth video by --depth NAME. With the left and right views "
+    "of the configuration, or instead of them."
+)
+@depth_video_option("The depth video of the further view --view NAME (repeatable).")
+@depth_range_option(
+    of="the further views' depth maps",
+    default="a camera's Depth_range in an MPEG-I JSON camera file, else the left view's",
 )
 @click.option(
     "--hole-filling",
@@ -74,14 +76,7 @@ _SECONDARY_NAMES = {
     help="Also write the virtual view's depth map, in the format of the left depth map "
     "(8-bit 4:2:0 with chroma 128, or as its name says).",
 )
-@click.option(
-    "--output-depth-range",
-    nargs=2,
-    type=DEPTH,
-    default=None,
-    metavar="ZNEAR ZFAR",
-    help="Znear, Zfar of --output-depth (default: the left view's).",
-)
+@depth_range_option("--output-depth-range", of="--output-depth", default="the left view's")
 @click.option(
     "--output-holes",
     type=click.Path(dir_okay=False),
@@ -96,7 +91,9 @@ def command(
     config,
     overrides,
     data_dirs,
-    extra_views,
+    views,
+    depths,
+    depth_range,
     hole_filling,
     output_depth,
     output_depth_range,
@@ -133,13 +130,7 @@ def command(
         data_dirs=data_dirs,
         transposed_rotation=transposed_rotation,
     )
-    extras = []
-    for name, texture, depth, znear, zfar in extra_views:
-        label = f"--view {name}"
-        camera = loaded.command_line_camera(name, label)
-        depth_coding((znear, zfar), 8, label, depth_type=loaded.params.depth_type)
-        paths = [command_line_input(label, value, data_dirs) for value in (texture, depth)]
-        extras.append(ReferenceFiles(camera, *paths, (znear, zfar), label, label))
+    extras = _further_views(loaded, views, depths, depth_range, data_dirs)
     outputs = synthesize_loaded(
         loaded,
         config_path=Path(config),
@@ -152,6 +143,30 @@ def command(
         warm_up_progress=Progress(None, "frames taken in"),
     )
     LOG.info("wrote %s", ", ".join(str(path) for path in outputs.values()))
+
+
+def _further_views(loaded, views, depths, depth_range, data_dirs) -> list[ReferenceFiles]:
+    """The reference views of --view and --depth, each camera with both."""
+    depth_of = dict(depths)
+    for name in depth_of.keys() - {name for name, _ in views}:
+        raise UsageError(f"--depth {name} has no --view {name}")
+    extras = []
+    for name, texture in views:
+        label = f"--view {name}"
+        camera = loaded.command_line_camera(name, label)
+        if name not in depth_of:
+            raise UsageError(f"{label}: give its depth video with --depth {name}")
+        znear_zfar = depth_range or camera.depth_range or loaded.params.left_depth_range
+        if znear_zfar is None:
+            raise UsageError(f"{label}: give the Znear and Zfar of its depth with --depth-range")
+        range_label = "--depth-range" if depth_range else label
+        depth_coding(znear_zfar, 8, range_label, depth_type=loaded.params.depth_type)
+        paths = [
+            command_line_input(label, texture, data_dirs),
+            command_line_input(f"--depth {name}", depth_of[name], data_dirs),
+        ]
+        extras.append(ReferenceFiles(camera, *paths, tuple(znear_zfar), label, f"--depth {name}"))
+    return extras
 
 
 def _command_line_output(option: str, value: str | None) -> Path | None:
