@@ -11,7 +11,7 @@ Names are imported from their modules on first use, so ``import mvtools.run`` is
 
 from __future__ import annotations
 
-import importlib
+from mvtools.lazy import attach
 
 #: Each exported name and the module of this package that defines it.
 _EXPORTS: dict[str, str] = {
@@ -59,14 +59,4 @@ _EXPORTS: dict[str, str] = {
     "EncoderSettings": "encode",
 }
 
-__all__ = sorted(_EXPORTS)
-
-
-def __getattr__(name: str):
-    if name not in _EXPORTS:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(f"{__name__}.{_EXPORTS[name]}"), name)
-
-
-def __dir__() -> list[str]:
-    return __all__
+__getattr__, __dir__, __all__ = attach(__name__, _EXPORTS)
