@@ -9,9 +9,11 @@ import click
 from mvtools.cli.options import (
     POSITIVE,
     ProgramCommand,
+    depth_video_option,
     frame_range_options,
     program,
     video_format_options,
+    view_option,
 )
 from mvtools.cli.progress import Progress
 from mvtools.errors import UsageError
@@ -20,23 +22,10 @@ from mvtools.run.encode import MODES, EncoderSettings, rd_experiment
 
 
 @click.command(name="encode", cls=ProgramCommand)
-@click.option(
-    "--view",
-    "views",
-    multiple=True,
-    nargs=2,
-    required=True,
-    metavar="NAME VIDEO",
-    help="A texture view (repeatable).",
-)
-@click.option(
-    "--depth",
-    "depths",
-    multiple=True,
-    nargs=2,
-    metavar="NAME VIDEO",
-    help="A view's depth map (repeatable): simulcast codes it as a stream of its own, "
-    "packing puts it into the atlas.",
+@view_option("The texture video of camera NAME (repeatable).", required=True)
+@depth_video_option(
+    "The depth video of camera NAME (repeatable): simulcast codes it as a stream of "
+    "its own, packing puts it into the atlas."
 )
 @click.option(
     "--qp",

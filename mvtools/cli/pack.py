@@ -8,10 +8,12 @@ import click
 
 from mvtools.cli.options import (
     ProgramCommand,
+    depth_video_option,
     frame_range_options,
     parse_size,
     program,
     video_format_options,
+    view_option,
 )
 from mvtools.cli.progress import Progress
 from mvtools.errors import UsageError
@@ -22,22 +24,8 @@ LOG = logging.getLogger("mvtools")
 
 
 @click.command(name="pack", cls=ProgramCommand)
-@click.option(
-    "--view",
-    "views",
-    multiple=True,
-    nargs=2,
-    metavar="NAME VIDEO",
-    help="A texture view to pack (repeatable, in order).",
-)
-@click.option(
-    "--depth",
-    "depths",
-    multiple=True,
-    nargs=2,
-    metavar="NAME VIDEO",
-    help="A depth map to pack into an atlas (repeatable).",
-)
+@view_option("The texture video of camera NAME to pack (repeatable, in order).")
+@depth_video_option("The depth video of camera NAME, packed into an atlas (repeatable).")
 @click.option(
     "--layout",
     type=click.Choice(LAYOUTS),
