@@ -20,10 +20,10 @@ from mvtools.cli.options import (
 from mvtools.cli.progress import Progress
 from mvtools.color.correct import SPACES
 from mvtools.errors import UsageError
+from mvtools.io.camera_files import read_camera_file
 from mvtools.io.cameras import get_camera
 from mvtools.io.color_charts import DEFAULT_CHART, read_colorchecker
 from mvtools.io.images import IMAGE_EXTENSIONS
-from mvtools.io.json_cameras import read_camera_file
 from mvtools.run.colorcorrect import CORRECTION_TARGETS, ColourCorrectionOptions, correct_colours
 
 

@@ -21,8 +21,8 @@ from mvtools.cli.options import (
 from mvtools.cli.progress import Progress
 from mvtools.errors import UsageError, at_fault
 from mvtools.geometry.depth import check_depth_range
+from mvtools.io.camera_files import read_camera_file
 from mvtools.io.cameras import get_camera
-from mvtools.io.json_cameras import read_camera_file
 from mvtools.run.rectify import RectifyOptions, rectify_videos
 
 if TYPE_CHECKING:

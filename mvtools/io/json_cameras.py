@@ -44,7 +44,7 @@ import numpy as np
 from mvtools.errors import ConfigError, UsageError
 from mvtools.geometry.camera import Camera
 from mvtools.io.atomic import atomic_output
-from mvtools.io.cameras import read_cameras, store_camera
+from mvtools.io.cameras import store_camera
 from mvtools.io.files import json_numbers, read_text
 
 __all__ = [
@@ -55,7 +55,6 @@ __all__ = [
     "JsonSequence",
     "VideoDescription",
     "euler_from_rotation",
-    "read_camera_file",
     "read_json_cameras",
     "read_json_sequence",
     "rotation_from_euler",
@@ -580,16 +579,3 @@ def _format_document(document: dict) -> str:
         cameras.append(f"        {{\n{lines}\n        }}")
     fields.append('    "cameras": [\n' + ",\n".join(cameras) + "\n    ]")
     return "{\n" + ",\n".join(fields) + "\n}\n"
-
-
-def read_camera_file(
-    path: str | os.PathLike, *, transposed_rotation: bool = False
-) -> dict[str, Camera]:
-    """Cameras of an MPEG-I JSON file (``.json``) or else an MPEG camera parameter file.
-
-    ``transposed_rotation`` applies to the MPEG text format, see
-    :func:`mvtools.io.cameras.read_cameras`.
-    """
-    if Path(path).suffix.lower() == ".json":
-        return read_json_cameras(path)
-    return read_cameras(path, transposed_rotation=transposed_rotation)

@@ -15,6 +15,7 @@ from typing import Any
 
 from mvtools.errors import ConfigError, DataError
 from mvtools.geometry.camera import Camera
+from mvtools.io.camera_files import read_camera_file
 from mvtools.io.cameras import get_camera
 from mvtools.io.config import (
     COMMAND_LINE,
@@ -28,7 +29,6 @@ from mvtools.io.config import (
     resolve_output_path,
 )
 from mvtools.io.inputs import frame_range
-from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.yuv import VideoReader, YuvFormat, format_from_name, open_video
 from mvtools.params import Kind, format_value, param_specs
 

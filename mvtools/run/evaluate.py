@@ -22,10 +22,10 @@ import numpy as np
 
 from mvtools.errors import ConfigError, DataError, UsageError, at_fault
 from mvtools.geometry.depth import DepthCoding, check_depth_range, z_to_disparity
+from mvtools.io.camera_files import read_camera_file
 from mvtools.io.files import read_json
 from mvtools.io.images import read_image
 from mvtools.io.inputs import frame_range, open_input_video
-from mvtools.io.json_cameras import read_camera_file
 from mvtools.io.middlebury import middlebury_set_for, read_ground_truth
 from mvtools.io.yuv import VideoReader
 from mvtools.metrics.disparity import (

@@ -25,11 +25,10 @@ from mvtools.errors import DataError, UsageError, at_fault
 from mvtools.geometry.camera import Camera, turn_world
 from mvtools.geometry.depth import DepthCoding
 from mvtools.io.atomic import output_folder_exists
-from mvtools.io.cameras import write_cameras
+from mvtools.io.camera_files import write_camera_file
 from mvtools.io.chroma import CHROMA_SUBSAMPLING
 from mvtools.io.guard import check_output
 from mvtools.io.inputs import frame_range, open_input_video
-from mvtools.io.json_cameras import write_json_cameras
 from mvtools.io.yuv import VideoReader, open_writer
 from mvtools.run.stream import ProgressCallback, stream_frames
 
@@ -307,7 +306,7 @@ def rectify_videos(
     if not (options.undistort_only or options.keep_world):
         described = turn_world(described, described[0].R)
     out.mkdir(parents=True, exist_ok=True)
-    _write_cameras(camera_target, described)
+    write_camera_file(camera_target, described)
     return RectifiedArray(result, described, targets, camera_target)
 
 
@@ -398,10 +397,3 @@ def _log_warps(result: Rectification, undistort_only: bool) -> None:
                 offset,
                 100 * offset / spacing,
             )
-
-
-def _write_cameras(path: Path, cameras: list[Camera]) -> None:
-    if path.suffix.lower() == ".json":
-        write_json_cameras(path, cameras)
-    else:
-        write_cameras(path, cameras)
