@@ -126,3 +126,18 @@ def test_ffmpeg_piped_into_a_configuration_input_synthesizes_as_the_file_does(tm
     assert piped.returncode == 0, piped.stderr
     from_file = _mvtools("synthesize", config, "-q", "-o", "-")
     assert piped.stdout == from_file.stdout
+
+
+def test_convert_reads_and_writes_standard_streams(tmp_path):
+    """``convert - -o raw.yuv`` stores the piped Y4M's samples; ``convert raw.yuv -o -``
+    streams them back as the same Y4M, and no file named '-' appears."""
+    _, frames = _frames()
+    stream = _y4m_bytes(frames)
+    raw = tmp_path / "raw_16x12_yuv420p.yuv"
+    stored = _mvtools("convert", "-", "-o", raw, stdin=stream, cwd=tmp_path)
+    assert stored.returncode == 0, stored.stderr
+    assert raw.read_bytes() == b"".join(p.tobytes() for f in frames for p in f)
+    streamed = _mvtools("convert", raw, "-o", "-", cwd=tmp_path)
+    assert streamed.returncode == 0, streamed.stderr
+    assert streamed.stdout == stream
+    assert sorted(p.name for p in tmp_path.iterdir()) == [raw.name]

@@ -30,6 +30,7 @@ from mvtools.io.json_cameras import (
     write_json_cameras,
     write_json_sequence,
 )
+from mvtools.io.yuv import is_standard_stream
 from mvtools.run.convert import (
     DepthValues,
     check_frame_pattern,
@@ -136,7 +137,7 @@ def command(
     if ".json" in (output.suffix.lower(), first.suffix.lower()):
         _convert_cameras(inputs, output, size, depth_range, fps, frame_count, transposed_rotation)
         return
-    out_is_video = output.suffix.lower() in VIDEO_EXTENSIONS
+    out_is_video = output.suffix.lower() in VIDEO_EXTENSIONS or is_standard_stream(output)
     if not out_is_video and output.suffix.lower() not in IMAGE_EXTENSIONS:
         raise UsageError(
             f"unknown output type {output.suffix!r}: use .yuv, .y4m or an image "
@@ -148,7 +149,7 @@ def command(
             "--to writes PFM images of a depth video, --from reads them: give one",
             key="--to/--from",
         )
-    if first.suffix.lower() in VIDEO_EXTENSIONS:
+    if first.suffix.lower() in VIDEO_EXTENSIONS or is_standard_stream(first):
         if len(inputs) > 1:
             raise UsageError("give one video input at a time")
         if from_quantity is not None:

@@ -29,6 +29,7 @@ from mvtools.cli.progress import Progress
 from mvtools.errors import UsageError
 from mvtools.io.config import COMMAND_LINE, ConfigEntry, resolve_output_path
 from mvtools.io.loaded_config import command_line_input, load_config
+from mvtools.io.yuv import is_standard_stream
 from mvtools.params import VsrsParams
 from mvtools.run.synthesize import (
     ReferenceFiles,
@@ -142,7 +143,10 @@ def command(
         progress=Progress(None, "frames synthesized"),
         warm_up_progress=Progress(None, "frames taken in"),
     )
-    LOG.info("wrote %s", ", ".join(str(path) for path in outputs.values()))
+    written = (
+        "standard output" if is_standard_stream(path) else str(path) for path in outputs.values()
+    )
+    LOG.info("wrote %s", ", ".join(written))
 
 
 def _further_views(loaded, views, depths, depth_range, data_dirs) -> list[ReferenceFiles]:
