@@ -271,9 +271,9 @@ def test_tsukuba_scored_by_evaluate(tmp_path):
         ),
         (["--disparities", 16, "--min-disparity", 16], 2, "empty disparity range"),
         (
-            ["--disparities", 16, "--neighbour", "cam0", "v0.yuv"],
+            ["--disparities", 16, "--view", "cam0", "v0.yuv"],
             2,
-            "--neighbour: DERS options need a configuration file",
+            "--view: DERS options need a configuration file",
         ),
         (["--disparities", 4, "--min-disparity", 10], 2, "empty disparity range"),
         (["--disparities", 16, "--png", "{tmp}/d.png", "--min-disparity", -2], 2, "negative"),

@@ -233,7 +233,7 @@ def _arc_estimate(tmp_path, name, *items):
 
 
 def test_further_neighbours_are_matched_as_the_configured_ones(tmp_path):
-    # cam1 and cam3 given as --neighbour instead of LeftCameraName/RightCameraName: the
+    # cam1 and cam3 given as --view instead of LeftCameraName/RightCameraName: the
     # same views in the sweep, so the same bytes.
     configured, _ = _arc_estimate(tmp_path, "configured")
     further, _ = _arc_estimate(
@@ -241,10 +241,10 @@ def test_further_neighbours_are_matched_as_the_configured_ones(tmp_path):
         "further",
         "LeftCameraName=",
         "RightCameraName=",
-        "--neighbour",
+        "--view",
         "cam1",
         "v1_texture_256x192_yuv420p.yuv",
-        "--neighbour",
+        "--view",
         "cam3",
         "v3_texture_256x192_yuv420p.yuv",
     )
@@ -258,10 +258,10 @@ def test_four_arc_views_fit_the_true_depth_better_than_two(tmp_path):
     _, four = _arc_estimate(
         tmp_path,
         "four",
-        "--neighbour",
+        "--view",
         "cam0",
         "v0_texture_256x192_yuv420p.yuv",
-        "--neighbour",
+        "--view",
         "cam4",
         "v4_texture_256x192_yuv420p.yuv",
     )
@@ -372,14 +372,14 @@ def line_copy(tmp_path):
         (["--method", "patchmatch"], 2, ["method 'patchmatch' is for stereo pairs"]),
         (["-o", "v2_texture_256x192_yuv420p.yuv"], 2, ["the output would overwrite an input"]),
         (
-            ["--neighbour", "cam7", "v1_texture_256x192_yuv420p.yuv"],
+            ["--view", "cam7", "v1_texture_256x192_yuv420p.yuv"],
             2,
-            ["--neighbour cam7: no camera 'cam7'"],
+            ["--view cam7: no camera 'cam7'"],
         ),
         (
-            ["--neighbour", "cam1", "missing.yuv"],
+            ["--view", "cam1", "missing.yuv"],
             2,
-            ["--neighbour cam1: file 'missing.yuv' not found"],
+            ["--view cam1: file 'missing.yuv' not found"],
         ),
         (
             ["--depth-bits", "16", "-o", "depth_256x192_yuv420p.yuv"],

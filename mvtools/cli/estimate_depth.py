@@ -32,6 +32,7 @@ from mvtools.cli.options import (
     param_options,
     program,
     transposed_rotation_option,
+    view_option,
 )
 from mvtools.cli.progress import Progress
 from mvtools.depth.options import COST_NAMES, PAIR_METHOD, DepthOptions
@@ -82,15 +83,10 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
     default=None,
     help="Stereo-pair mode: smallest disparity searched, in pixels (inclusive; default 0).",
 )
-@click.option(
-    "--neighbour",
-    "further_neighbours",
-    multiple=True,
-    nargs=2,
-    metavar="CAMERA VIDEO",
-    help="DERS mode: a further neighbour view (repeatable): camera name of the "
-    "camera file and its video, matched in the plane sweep besides the left "
-    "and right views of the configuration.",
+@view_option(
+    "DERS mode: a further neighbour (repeatable): the texture video of camera NAME of "
+    "the camera file, matched in the plane sweep besides the left and right views of "
+    "the configuration."
 )
 @click.option(
     "--subpixel/--integer",
@@ -170,7 +166,7 @@ def command(
     right,
     max_disparity,
     min_disparity,
-    further_neighbours,
+    views,
     subpixel,
     cost,
     segment_planes,
@@ -198,7 +194,7 @@ def command(
     planes uniform in 1/z from the disparity search range (pixels to the BaselineBasis
     view, SearchLevel steps per pixel) or from NearestSearchDepthValue,
     FarthestSearchDepthValue and NumberOfDepthSteps; any camera layout, and any number
-    of further views with --neighbour (the least cost of the views that see a point
+    of further views with --view (the least cost of the views that see a point
     counts, DERS's occlusion rule). The output holds
     MinimumValueOfDisparityRange..MaximumValueOfDisparityRange as 0..255, or
     FarthestDepthValue..NearestDepthValue when those are given; the Znear/Zfar this
@@ -245,8 +241,8 @@ def command(
             transposed_rotation=transposed_rotation,
         )
         further_views = []
-        for name, video in further_neighbours:
-            label = f"--neighbour {name}"
+        for name, video in views:
+            label = f"--view {name}"
             camera = loaded.command_line_camera(name, label)
             further_views.append(
                 FurtherView(camera, command_line_input(label, video, data_dirs), label)
@@ -268,7 +264,7 @@ def command(
     ]
     ders_given += ["--data-dir"] * bool(data_dirs) + ["--depth-bits"] * (depth_bits is not None)
     ders_given += ["--transposed-rotation"] * transposed_rotation
-    ders_given += ["--neighbour"] * bool(further_neighbours)
+    ders_given += ["--view"] * bool(views)
     if overrides or ders_given:
         raise UsageError(
             f"{', '.join(ders_given + list(overrides))}: DERS options need a "
