@@ -76,6 +76,7 @@ def test_sample_rig_recovers_the_true_cameras(sample_rig):
         assert np.linalg.norm(camera.t - centre) < 0.005 * baseline
 
 
+@pytest.mark.slow
 def test_sample_rig_report_lists_the_captures_each_camera_saw(sample_rig):
     truth, out, stdout = sample_rig
     report = json.loads((out / "report" / "report.json").read_text())

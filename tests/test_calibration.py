@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import itertools
 import json
-import time
 from pathlib import Path
 
 import cv2
@@ -131,14 +130,12 @@ def test_detected_corners_are_the_true_corners_in_their_order(sample_detections,
 @pytest.fixture(scope="module")
 def sample_calibration(sample_detections, truth):
     sizes = [camera.size for camera in truth["cameras"]]
-    started = time.perf_counter()
-    result = calibrate_rig(sample_detections, truth["board"], sizes)
-    return result, time.perf_counter() - started
+    return calibrate_rig(sample_detections, truth["board"], sizes)
 
 
 @pytest.mark.slow
 def test_sample_rig_recovers_the_true_cameras(sample_calibration, truth):
-    result, seconds = sample_calibration
+    result = sample_calibration
     rotations, centres = in_frame_of(truth["cameras"], 0)
     baseline = np.linalg.norm(centres[1] - centres[0])
     np.testing.assert_allclose(baseline, 0.1, rtol=1e-12)
@@ -158,11 +155,11 @@ def test_sample_rig_recovers_the_true_cameras(sample_calibration, truth):
     assert result.rejected[(0, 1)] == "board not found"
     assert set(result.rejected) == set(zip(*np.nonzero(~result.used)))
     assert np.all(result.rms < 0.08) and np.all(result.intrinsic_rms < 0.08)
-    assert seconds < 5.0  # measured 0.4 s
 
 
+@pytest.mark.slow
 def test_board_poses_and_reprojections_follow_the_truth(sample_calibration, truth):
-    result, _ = sample_calibration
+    result = sample_calibration
     R0, t0 = truth["cameras"][0].R, truth["cameras"][0].t
     seen = result.used.any(axis=0)
     for p in np.flatnonzero(seen):
@@ -186,8 +183,9 @@ def test_board_poses_and_reprojections_follow_the_truth(sample_calibration, trut
         )
 
 
+@pytest.mark.slow
 def test_baselines_and_axis_angles_by_hand(sample_calibration, truth):
-    result, _ = sample_calibration
+    result = sample_calibration
     true_centres = [camera.t for camera in truth["cameras"]]
     np.testing.assert_allclose(result.baselines(), [0.1] * 4, rtol=0.005)
     assert np.allclose(np.diff(true_centres, axis=0), [0.1, 0, 0])
@@ -248,16 +246,13 @@ def test_exact_corners_give_the_exact_rig_through_a_chain_of_cameras(truth):
 
 
 @pytest.mark.slow
-def test_a_full_rig_is_adjusted_in_well_under_ten_seconds(truth):
+def test_a_full_rig_of_exact_corners_is_fit_exactly(truth):
     # 5 cameras x 12 captures x 54 corners (every board, also those partly out of view).
     keep = np.ones(truth["visible"].shape, dtype=bool)
-    started = time.perf_counter()
     result = calibrate_rig(
         exact_points(truth, keep), truth["board"], [camera.size for camera in truth["cameras"]]
     )
-    seconds = time.perf_counter() - started
     assert result.used.all() and np.all(result.rms < 1e-10)
-    assert seconds < 5.0  # measured 0.5 s
 
 
 @pytest.mark.slow

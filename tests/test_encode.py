@@ -77,6 +77,7 @@ def experiment(tmp_path_factory):
     return out, json.loads((out / "report.json").read_text()), stdout
 
 
+@pytest.mark.slow
 @needs_encoders
 def test_rates_and_qualities_fall_with_the_qp(experiment):
     _, report, stdout = experiment

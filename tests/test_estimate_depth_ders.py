@@ -47,6 +47,7 @@ def true_inverse_depth(rig: str, frame: int = 0) -> np.ndarray:
     return 1.0 / depth_to_z(values, ZNEAR, ZFAR, bits=16)
 
 
+@pytest.mark.slow
 def test_line_rig_disparity_range_gives_the_true_depth(tmp_path):
     # Output mapped by the disparity range (NearestDepthValue not given): to camera 1 or 3,
     # 0.1 away at f = 240, disparity 1..12 is z = 24..2 (f B / d) and values 0..255.
@@ -76,6 +77,7 @@ def test_line_rig_disparity_range_gives_the_true_depth(tmp_path):
     assert (error <= 0.5).mean() > 0.95
 
 
+@pytest.mark.slow
 def test_soft_segment_matching_gives_the_true_depth(tmp_path):
     # MatchingMethod 3 on the line rig, read as the disparity-range test above reads it
     output = tmp_path / "depth_256x192_yuv420p.yuv"
@@ -97,6 +99,7 @@ def test_soft_segment_matching_gives_the_true_depth(tmp_path):
     assert (error <= 0.25).mean() > 0.9
 
 
+@pytest.mark.slow
 def test_arc_rig_z_range_gives_the_true_depth_in_16_bits(tmp_path):
     output = tmp_path / "depth.yuv"
     code, _, err = run(
@@ -122,6 +125,7 @@ def test_arc_rig_z_range_gives_the_true_depth_in_16_bits(tmp_path):
     assert (error <= 2).mean() > 0.95
 
 
+@pytest.mark.slow
 def test_negative_range_of_a_mirrored_world_gives_the_true_depth(tmp_path):
     """Poznan's convention: the arc rig's world mirrored through the origin (X -> -X, so
     camera centres t -> -t, rotations kept) sees the same pictures with every depth

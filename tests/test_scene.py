@@ -358,6 +358,7 @@ def test_checkerboard_truth_matches_detected_corners(calibration_captures):
     assert np.all(np.abs(errors.mean(axis=0)) < 0.02)
 
 
+@pytest.mark.slow
 def test_board_poses_are_well_conditioned(calibration_captures):
     captures = calibration_captures
     tilts = np.degrees(np.arccos(np.abs(captures.rotations[:, 2, 2])))
@@ -535,6 +536,7 @@ def test_scene_program_writes_the_ground_truth(sample_folder):
     assert arc.synthesis_mode == 0
 
 
+@pytest.mark.slow
 def test_scene_program_writes_distortion_and_calibration_truth(sample_folder):
     import json
 
