@@ -26,3 +26,8 @@ else:
 # PASSIVE 15.0 s and 9.0 s). PASSIVE: they sleep at once. libgomp reads it when it
 # loads, at the first parallel kernel; the user's setting still wins.
 _os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+# numba's import-time BLAS probe would load scipy.linalg in every run (mvtools.kernels).
+from mvtools.kernels import defer_blas_check as _defer_blas_check  # noqa: E402
+
+_defer_blas_check()

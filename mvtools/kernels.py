@@ -29,28 +29,69 @@ def announce_compilation() -> None:
     cache, once per process; kernels loaded from the cache say nothing."""
     if "numba" in sys.modules:
         _listen()
-    elif not any(isinstance(finder, _WhenNumbaLoads) for finder in sys.meta_path):
-        sys.meta_path.insert(0, _WhenNumbaLoads())
+    else:
+        _around_import("numba", _then_listen)
 
 
-class _WhenNumbaLoads(importlib.abc.MetaPathFinder):
-    """Registers the listener right after numba is imported, by whoever imports it."""
+def defer_blas_check() -> None:
+    """Keep numba from importing SciPy's linear algebra in every process that loads a
+    kernel.
+
+    numba's array functions ask at import whether BLAS is there by importing
+    ``scipy.linalg.cython_blas``, which loads all of ``scipy.linalg``: 0.2 s of CPU
+    in a run of a fraction of a second, though no kernel of mvtools calls BLAS. Here the
+    question is answered by whether SciPy is installed, which is the same answer where
+    SciPy is sound; numba still imports the BLAS module when a kernel that uses it
+    compiles or loads.
+    """
+    if "numba.np.arraymath" not in sys.modules:
+        _around_import("numba.np.arraymath", _without_importing_blas)
+
+
+def _around_import(name: str, around) -> None:
+    """Run ``around(load, module)`` instead of ``load(module)`` when module ``name`` is
+    first imported, by whoever imports it."""
+    if not any(getattr(finder, "name", None) == name for finder in sys.meta_path):
+        sys.meta_path.insert(0, _AroundImport(name, around))
+
+
+class _AroundImport(importlib.abc.MetaPathFinder):
+    def __init__(self, name: str, around):
+        self.name = name
+        self.around = around
 
     def find_spec(self, fullname, path, target=None):
-        if fullname != "numba":
+        if fullname != self.name:
             return None
         sys.meta_path.remove(self)
         spec = importlib.util.find_spec(fullname)
         if spec is None or spec.loader is None:
             return spec
         load = spec.loader.exec_module
-
-        def exec_module(module):
-            load(module)
-            _listen()
-
-        spec.loader.exec_module = exec_module
+        spec.loader.exec_module = lambda module: self.around(load, module)
         return spec
+
+
+def _then_listen(load, module) -> None:
+    load(module)
+    _listen()
+
+
+def _without_importing_blas(load, module) -> None:
+    import numba.np.linalg as linalg
+
+    ensure_blas = linalg.ensure_blas
+
+    def scipy_installed() -> None:
+        if importlib.util.find_spec("scipy") is None:
+            raise ImportError("scipy 0.16+ is required for linear algebra")
+
+    # arraymath binds the name when it imports: only its import-time check sees this
+    linalg.ensure_blas = scipy_installed
+    try:
+        load(module)
+    finally:
+        linalg.ensure_blas = ensure_blas
 
 
 @functools.cache  # one listener per process
