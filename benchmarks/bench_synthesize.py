@@ -27,7 +27,6 @@ from pathlib import Path
 import cv2
 from common import DATA, report
 
-from mvtools.cli.main import cli
 from mvtools.datasets import cones_multiview, write_cones_case
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import DepthCoding
@@ -37,7 +36,7 @@ from mvtools.io.loaded_config import load_config
 from mvtools.io.yuv import YuvFormat, frame_from_luma, read_frame, write_video
 from mvtools.metrics import iv_psnr, psnr
 from mvtools.params import VsrsParams
-from mvtools.run.synthesize import synthesis_options
+from mvtools.run.synthesize import synthesis_options, synthesize_loaded
 from mvtools.synthesis import ReferenceView
 from mvtools.synthesis.pipeline import Synthesizer
 from mvtools.synthesis.working import to_working
@@ -153,7 +152,7 @@ def kendo_speed(rows: list) -> None:
 
 
 def _program_seconds_per_frame(settings: list[str]) -> float:
-    """Time per frame of ``mvtools synthesize`` on Kendo repeated, run in this process
+    """Time per frame of the program's run function (``synthesize_loaded``) on Kendo repeated, in this process
     after a warm-up run (process start and compilation excluded):
     (time for 1 + SPEED_FRAMES frames - time for 1 frame) / SPEED_FRAMES."""
     fmt = YuvFormat(1024, 768)
@@ -169,30 +168,34 @@ def _program_seconds_per_frame(settings: list[str]) -> float:
             frame = read_frame(KENDO / f"{name}.yuv", fmt)
             write_video(folder / f"{name}.yuv", fmt, [frame] * (SPEED_FRAMES + 1))
             names.append(f"{key}={folder / name}.yuv")
-        arguments = [
-            "synthesize",
-            str(KENDO_CONFIG),
-            "-q",
-            "--data-dir",
-            str(KENDO),
-            *settings,
-            *names,
-            "-o",
-            str(folder / "out.yuv"),
-        ]
+        names.append(f"OutputVirtualViewImageName={folder / 'out.yuv'}")
         seconds = {}
         for count in (1, 1, SPEED_FRAMES + 1):
             start = time.perf_counter()
-            cli([*arguments, "--frames", str(count)], standalone_mode=False)
+            loaded = load_config(
+                VsrsParams,
+                KENDO_CONFIG,
+                overrides=[*settings, *names, f"TotalNumberOfFrames={count}"],
+                data_dirs=[KENDO],
+            )
+            synthesize_loaded(loaded, config_path=KENDO_CONFIG)
             seconds[count] = time.perf_counter() - start
     return (seconds[SPEED_FRAMES + 1] - seconds[1]) / SPEED_FRAMES
 
 
 _PEAK = """
 import resource, sys
-from mvtools.cli.main import cli
+from pathlib import Path
+from mvtools.io.loaded_config import load_config
+from mvtools.params import VsrsParams
+from mvtools.run.synthesize import synthesize_loaded
+config, frames = sys.argv[1], sys.argv[2]
 try:
-    cli(["synthesize", *sys.argv[1:]], standalone_mode=False)
+    loaded = load_config(VsrsParams, config, overrides=[f"TotalNumberOfFrames={frames}"])
+    synthesize_loaded(
+        loaded, config_path=Path(config), output_depth=Path("depth.yuv"),
+        output_holes=Path("holes.yuv"),
+    )
 finally:
     print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
 """
@@ -258,13 +261,7 @@ def memory_1080p(rows: list) -> None:
                     "-c",
                     _PEAK,
                     str(folder / "big.cfg"),
-                    "-q",
-                    "--frames",
                     str(frames),
-                    "--output-depth",
-                    "depth.yuv",
-                    "--output-holes",
-                    "holes.yuv",
                 ],
                 cwd=folder,
                 check=True,
