@@ -125,6 +125,20 @@ def test_upsample_chroma_hand_values():
     assert u.tolist() == [[0, 0, 100]] * 2
 
 
+def test_upsample_chroma_into_views_of_an_image_hand_values():
+    # 4:2:0, 2x2 chroma to 4x4: rows and columns each at (x - 0.5) / 2, weights 3/4, 1/4;
+    # out gets unrounded values (here exact quarters) straight into the image's channels.
+    luma = np.zeros((4, 4), np.uint8)
+    chroma = np.array([[0, 100], [200, 30]], np.uint8)
+    image = np.zeros((4, 4, 3), np.float32)
+    upsample_chroma((luma, chroma, chroma), out=(image[..., 1], image[..., 2]))
+    top, bottom = np.array([0.0, 25, 75, 100]), np.array([200.0, 157.5, 72.5, 30])
+    expected = np.stack([top, 0.75 * top + 0.25 * bottom, 0.25 * top + 0.75 * bottom, bottom])
+    np.testing.assert_array_equal(image[..., 1], expected)
+    np.testing.assert_array_equal(image[..., 2], expected)
+    assert not image[..., 0].any()
+
+
 def test_down_then_up_reproduces_a_ramp_inside():
     # With matching (centred) siting a linear ramp survives 4:2:0 resampling exactly,
     # except in the outer luma row and column where the edge is replicated.

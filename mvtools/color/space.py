@@ -137,26 +137,16 @@ def downsample_chroma(plane: np.ndarray, *, chroma: str = "420") -> np.ndarray:
     ).astype(plane.dtype)
 
 
-def _upsample_axis(values: np.ndarray, size: int, axis: int, method: str) -> np.ndarray:
-    """Double ``values`` along ``axis`` to ``size`` samples (centred siting)."""
-    if method == "nearest":
-        return np.take(np.repeat(values, 2, axis=axis), np.arange(size), axis=axis)
-    # Output sample x sits at chroma coordinate (x - 0.5) / 2: between the chroma
-    # samples floor and floor + 1 with weight 3/4 on the nearer one.
-    position = (np.arange(size) - 0.5) / 2
-    lower = np.floor(position).astype(int)
-    weight = position - lower
-    last = values.shape[axis] - 1
-    below = np.take(values, np.clip(lower, 0, last), axis=axis)
-    above = np.take(values, np.clip(lower + 1, 0, last), axis=axis)
-    shape = [1, 1]
-    shape[axis] = size
-    weight = weight.reshape(shape)
-    return below * (1 - weight) + above * weight
+def _upsample_nearest(values: np.ndarray, size: int, axis: int) -> np.ndarray:
+    """Double ``values`` along ``axis`` to ``size`` samples, each repeated."""
+    return np.take(np.repeat(values, 2, axis=axis), np.arange(size), axis=axis)
 
 
 def upsample_chroma(
-    planes: Sequence[np.ndarray], *, method: str = "bilinear"
+    planes: Sequence[np.ndarray],
+    *,
+    method: str = "bilinear",
+    out: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, ...]:
     """Bring 4:2:0 or 4:2:2 chroma to the luma size.
 
@@ -167,6 +157,9 @@ def upsample_chroma(
     method : {"bilinear", "nearest"}
         "bilinear": centred siting, weights 3/4, 1/4 (edges replicated);
         "nearest": each chroma sample repeated over its 2x2 (or 2x1) block.
+    out : (U, V) of float ndarray of shape (H, W), optional
+        Arrays (views of a larger image, say) that get the upsampled chroma, unrounded
+        whatever the input's dtype; returned in place of new arrays.
 
     Returns
     -------
@@ -182,16 +175,24 @@ def upsample_chroma(
     if luma.ndim != 2:
         raise ValueError(f"planes must be 2-D, got Y of shape {luma.shape}")
     result = [luma]
-    for plane in planes[1:]:
+    for index, plane in enumerate(planes[1:]):
         plane = np.asarray(plane)
         if plane.ndim != 2:
             raise ValueError(f"planes must be 2-D, got chroma of shape {plane.shape}")
         halved = _subsampling(luma.shape, plane.shape)
-        values = plane.astype(np.float64)
-        for axis in (0, 1):
-            if halved[axis]:
-                values = _upsample_axis(values, luma.shape[axis], axis, method)
-        if plane.dtype.kind == "f":
+        if out is not None and (out[index].dtype.kind != "f" or out[index].shape != luma.shape):
+            raise ValueError("out takes float arrays of the luma's shape")
+        if method == "bilinear":
+            from mvtools.color.upsample import upsample_bilinear
+
+            values = np.empty(luma.shape) if out is None else out[index]
+            upsample_bilinear(plane, halved[0], halved[1], values)
+        else:
+            values = plane.astype(np.float64)
+            for axis in (0, 1):
+                if halved[axis]:
+                    values = _upsample_nearest(values, luma.shape[axis], axis)
+        if plane.dtype.kind == "f" or out is not None:
             result.append(values)
         else:
             result.append(

@@ -14,8 +14,6 @@ from mvtools.geometry.projection import backproject, pixel_grid
 
 __all__ = ["from_working", "to_working", "world_z"]
 
-_STRIP_ROWS = 128  # even: a strip starts on a 4:2:0 chroma row
-
 
 def world_z(camera: Camera, z: np.ndarray) -> np.ndarray:
     """Depth along ``camera``'s axis -> world z (DepthType 1); inf where nothing was seen."""
@@ -42,28 +40,11 @@ def to_working(planes, *, color_space: int, bits: int) -> np.ndarray:
     """
     if color_space == 1:
         return yuv_to_rgb(planes, bits=bits).astype(np.float32)
-    luma, chroma = planes[0], planes[1:]
-    rows, chroma_rows = luma.shape[0], chroma[0].shape[0]
-    step = 2 if chroma_rows == -(-rows // 2) and chroma_rows != rows else 1  # 4:2:0: 2
+    luma = planes[0]
     image = np.empty(luma.shape + (3,), dtype=np.float32)
     image[..., 0] = luma
-    # Strips of rows, each upsampled with the chroma rows around it that its
-    # interpolation reads (the same sums as for the whole frame): the float64
-    # temporaries of a whole frame take three times the image.
-    for top in range(0, rows, _STRIP_ROWS):
-        bottom = min(top + _STRIP_ROWS, rows)
-        first = max(top // step - 1, 0)
-        last = min(-(-bottom // step) + 1, chroma_rows)
-        strip = upsample_chroma(
-            [
-                luma[first * step : last * step],
-                *(np.asarray(plane[first:last], np.float32) for plane in chroma),
-            ]
-        )
-        for channel in (1, 2):
-            image[top:bottom, :, channel] = strip[channel][
-                top - first * step : bottom - first * step
-            ]
+    # chroma straight into the image, with no full-size float64 temporaries
+    upsample_chroma(planes, out=(image[..., 1], image[..., 2]))
     return image
 
 
