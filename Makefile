@@ -12,6 +12,8 @@ install: $(VENV)/.installed
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet -e '.[test]'
+	# byte-compiled once, as an installed package is, so no run compiles the sources
+	$(BIN)/python -m compileall -q mvtools
 	touch $@
 
 # Regenerate the committed sample data from the project's own synthetic scene.

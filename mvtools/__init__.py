@@ -26,6 +26,13 @@ else:
 # PASSIVE 15.0 s and 9.0 s). PASSIVE: they sleep at once. libgomp reads it when it
 # loads, at the first parallel kernel; the user's setting still wins.
 _os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+# NumPy's OpenBLAS starts a thread per core and they spin-wait after each matrix product
+# (the camera projections of every frame are such products, small ones): one Kendo frame
+# of 1D synthesis took 0.9 s of CPU with them and 0.6 s without, in the same wall time.
+# The parallel work of mvtools is in its numba kernels and its Dask workers, so BLAS
+# runs on the calling thread. Read when NumPy loads: a program sets it before; a Python
+# user who imported NumPy first keeps NumPy's choice, and the user's setting wins.
+_os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 # numba's import-time BLAS probe would load scipy.linalg in every run (mvtools.kernels).
 from mvtools.kernels import defer_blas_check as _defer_blas_check  # noqa: E402
