@@ -257,12 +257,13 @@ def soften_edges(
     return _soften(color, z, np.float32(strength), tolerance)
 
 
-@numba.njit(cache=True, nogil=True, parallel=True)
+# serial, as the temporal filter's kernels (mvtools/synthesis/temporal.py say why)
+@numba.njit(cache=True, nogil=True)
 def _soften(color, z, strength, tolerance):
     rows, columns = z.shape
     out = np.empty_like(color)
     keep = 1 - strength
-    for y in numba.prange(rows):
+    for y in range(rows):
         for x in range(columns):
             here = z[y, x]
             count = 0

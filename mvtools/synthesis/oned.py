@@ -590,7 +590,8 @@ def _output(out: WarpedView | None, shape: tuple[int, int]) -> WarpedView:
     return out
 
 
-@numba.njit(cache=True, nogil=True, parallel=True)
+# serial, as the temporal filter's kernels (mvtools/synthesis/temporal.py say why)
+@numba.njit(cache=True, nogil=True)
 def _merge_rows(
     color_left,
     z_left,
@@ -607,7 +608,7 @@ def _merge_rows(
     z,
 ):
     height, width = z.shape
-    for y in numba.prange(height):
+    for y in range(height):
         for x in range(width):
             zl = z_left[y, x]
             zr = z_right[y, x]
