@@ -155,12 +155,10 @@ def command(
     The tables are monotonic and smooth, estimated from the first --estimate-frames
     frames and applied to all, one frame at a time.
     """
-    names = [name for name, _ in views]
-    if len(set(names)) != len(names):
-        raise UsageError(f"a view is given twice ({', '.join(names)})")
+    names = list(views)
     out = Path(out_dir)
     outputs = {}
-    for name, path in views:
+    for name, path in views.items():
         for other, corrected in outputs.items():
             if corrected.name == Path(path).name:
                 raise UsageError(
@@ -193,7 +191,7 @@ def command(
             chart_model=chart_model,
             **estimation,
         )
-        result = correct_colours(dict(views), outputs, options, **video_frames)
+        result = correct_colours(views, outputs, options, **video_frames)
         lines = [
             f"{'view':12s} {'patches':>8s} {'mean dE00 before':>17s} {'after':>7s} {'max after':>10s}"
         ]
@@ -208,19 +206,18 @@ def command(
         raise UsageError("colour correction needs at least two views (or --target chart)")
     if reference is not None and reference not in names:
         raise UsageError(f"--reference {reference}: no such view (views: {', '.join(names)})")
-    depth_of = dict(depths)
-    unknown = sorted(set(depth_of) - set(names))
+    unknown = sorted(set(depths) - set(names))
     if unknown:
         raise UsageError(f"--depth {unknown[0]}: no such view (views: {', '.join(names)})")
     options = ColourCorrectionOptions(reference=reference, target=target, space=space, **estimation)
-    images = [Path(path).suffix.lower() in IMAGE_EXTENSIONS for _, path in views]
+    images = [Path(path).suffix.lower() in IMAGE_EXTENSIONS for path in views.values()]
     if any(images):
-        if not all(images) or depth_of or camera_file:
+        if not all(images) or depths or camera_file:
             raise UsageError(
                 "views given as images are matched by their histograms: give "
                 "only images, without --depth and --cameras"
             )
-        result = correct_colours(dict(views), outputs, options)
+        result = correct_colours(views, outputs, options)
         lines = [f"{'view':12s} mean RGB difference to {result.reference}: before   after"]
         lines += [
             f"{view.name:12s} {'':>33s}{view.before:7.2f} {view.after:7.2f}"
@@ -229,11 +226,11 @@ def command(
         click.echo("\n".join(lines))
         return
     result = correct_colours(
-        dict(views),
+        views,
         outputs,
         options,
-        cameras=_cameras(camera_file, depth_of, names, transposed_rotation),
-        depths=depth_of,
+        cameras=_cameras(camera_file, depths, names, transposed_rotation),
+        depths=depths,
         depth_range=depth_range,
         **video_frames,
     )

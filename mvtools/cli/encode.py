@@ -16,7 +16,6 @@ from mvtools.cli.options import (
     view_option,
 )
 from mvtools.cli.progress import Progress
-from mvtools.errors import UsageError
 from mvtools.io.encoders import ENCODERS
 from mvtools.run.encode import MODES, EncoderSettings, rd_experiment
 
@@ -101,14 +100,11 @@ def command(
     """Encode the views at every QP, decode them, and report per QP the bitrate and the
     Y-PSNR and YUV-PSNR (6:1:1) of every view; with two modes, the Bjontegaard deltas of
     packing against simulcast (BD-rate and BD-PSNR, cubic and piecewise-cubic)."""
-    streams = [(name, "texture") for name, _ in views] + [(name, "depth") for name, _ in depths]
-    if len(set(streams)) != len(streams):
-        raise UsageError("a view or depth map is given twice")
     report = rd_experiment(
-        dict(views),
+        views,
         qps,
         out_dir,
-        depths=dict(depths),
+        depths=depths,
         modes=modes or MODES,
         settings=EncoderSettings(
             encoder=encoder, preset=preset, fps=fps, depth_qp_offset=depth_qp_offset

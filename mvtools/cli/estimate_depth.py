@@ -241,7 +241,7 @@ def command(
             transposed_rotation=transposed_rotation,
         )
         further_views = []
-        for name, video in views:
+        for name, video in views.items():
             label = f"--view {name}"
             camera = loaded.command_line_camera(name, label)
             further_views.append(

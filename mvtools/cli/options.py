@@ -306,9 +306,23 @@ def depth_range_option(name: str = "--depth-range", *, of: str = "the depth maps
     )
 
 
+def _by_camera(what: str):
+    """A click callback: ``NAME VIDEO`` pairs to a mapping, in order, each camera once."""
+
+    def callback(ctx, param, pairs):
+        by_camera: dict[str, str] = {}
+        for name, video in pairs:
+            if name in by_camera:
+                raise click.BadParameter(f"{what} is given twice: camera {name}")
+            by_camera[name] = video
+        return by_camera
+
+    return callback
+
+
 def view_option(help: str, *, required: bool = False):
     """``--view NAME VIDEO`` (repeatable): the texture video of camera NAME, in every
-    program that takes views."""
+    program that takes views; the program gets a mapping of camera name to video."""
     return click.option(
         "--view",
         "views",
@@ -316,14 +330,21 @@ def view_option(help: str, *, required: bool = False):
         nargs=2,
         required=required,
         metavar="NAME VIDEO",
+        callback=_by_camera("a view"),
         help=help,
     )
 
 
 def depth_video_option(help: str):
-    """``--depth NAME VIDEO`` (repeatable): the depth video of camera NAME."""
+    """``--depth NAME VIDEO`` (repeatable): the depth video of camera NAME, as a mapping."""
     return click.option(
-        "--depth", "depths", multiple=True, nargs=2, metavar="NAME VIDEO", help=help
+        "--depth",
+        "depths",
+        multiple=True,
+        nargs=2,
+        metavar="NAME VIDEO",
+        callback=_by_camera("a depth map"),
+        help=help,
     )
 
 

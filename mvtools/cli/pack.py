@@ -124,14 +124,11 @@ def command(
         return
     if not views:
         raise UsageError("give the views to pack with --view NAME VIDEO")
-    keys = [(name, "texture") for name, _ in views] + [(name, "depth") for name, _ in depths]
-    if len(set(keys)) != len(keys):
-        raise UsageError("a view or depth map is given twice")
     packed = pack_views(
-        dict(views),
+        views,
         output,
         PackOptions(layout=layout, half=half, columns=columns, block=block, frame_size=frame_size),
-        depths=dict(depths),
+        depths=depths,
         sidecar=sidecar or None,
         size=size,
         pix_fmt=pix_fmt,

@@ -135,7 +135,7 @@ def command(
         with at_fault(UsageError, key="--depth-range"):
             check_depth_range(*depth_range)
     cameras = read_camera_file(camera_file, transposed_rotation=transposed_rotation)
-    names = list(camera_names) or list(dict.fromkeys(name for name, _ in (*views, *depths)))
+    names = list(camera_names) or list(dict.fromkeys([*views, *depths]))
     if not names:
         raise UsageError("name the cameras to rectify with --camera, --view or --depth")
     options = RectifyOptions(
@@ -149,8 +149,8 @@ def command(
     result = rectify_videos(
         [get_camera(cameras, name, path=camera_file) for name in names],
         out_dir=out_dir,
-        textures=_videos_by_camera(views, "--view"),
-        depths=_videos_by_camera(depths, "--depth"),
+        textures=views,
+        depths=depths,
         options=options,
         cameras_out=cameras_out,
         size=size,
@@ -161,15 +161,6 @@ def command(
         video_progress=lambda path: Progress(None, f"{path.name} frames rectified"),
     )
     click.echo(_summary(result.rectification))
-
-
-def _videos_by_camera(pairs, option) -> dict[str, str]:
-    by_camera: dict[str, str] = {}
-    for name, path in pairs:
-        if name in by_camera:
-            raise UsageError(f"{option} given twice for camera {name}")
-        by_camera[name] = path
-    return by_camera
 
 
 def _summary(result: Rectification) -> str:

@@ -151,14 +151,13 @@ def command(
 
 def _further_views(loaded, views, depths, depth_range, data_dirs) -> list[ReferenceFiles]:
     """The reference views of --view and --depth, each camera with both."""
-    depth_of = dict(depths)
-    for name in depth_of.keys() - {name for name, _ in views}:
+    for name in depths.keys() - views.keys():
         raise UsageError(f"--depth {name} has no --view {name}")
     extras = []
-    for name, texture in views:
+    for name, texture in views.items():
         label = f"--view {name}"
         camera = loaded.command_line_camera(name, label)
-        if name not in depth_of:
+        if name not in depths:
             raise UsageError(f"{label}: give its depth video with --depth {name}")
         znear_zfar = depth_range or camera.depth_range or loaded.params.left_depth_range
         if znear_zfar is None:
@@ -167,7 +166,7 @@ def _further_views(loaded, views, depths, depth_range, data_dirs) -> list[Refere
         depth_coding(znear_zfar, 8, range_label, depth_type=loaded.params.depth_type)
         paths = [
             command_line_input(label, texture, data_dirs),
-            command_line_input(f"--depth {name}", depth_of[name], data_dirs),
+            command_line_input(f"--depth {name}", depths[name], data_dirs),
         ]
         extras.append(ReferenceFiles(camera, *paths, tuple(znear_zfar), label, f"--depth {name}"))
     return extras
