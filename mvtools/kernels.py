@@ -51,7 +51,7 @@ def defer_blas_check() -> None:
 def _around_import(name: str, around) -> None:
     """Run ``around(load, module)`` instead of ``load(module)`` when module ``name`` is
     first imported, by whoever imports it."""
-    if not any(getattr(finder, "name", None) == name for finder in sys.meta_path):
+    if not any(isinstance(f, _AroundImport) and f.name == name for f in sys.meta_path):
         sys.meta_path.insert(0, _AroundImport(name, around))
 
 
