@@ -102,7 +102,9 @@ def _subsampling(luma_shape: tuple[int, int], chroma_shape: tuple[int, int]) -> 
     return halved[0], halved[1]
 
 
-def downsample_chroma(plane: np.ndarray, *, chroma: str = "420") -> np.ndarray:
+def downsample_chroma(
+    plane: np.ndarray, *, chroma: str = "420", bits: int | None = None
+) -> np.ndarray:
     """Halve a full-size chroma plane by averaging (centred siting).
 
     Parameters
@@ -111,30 +113,44 @@ def downsample_chroma(plane: np.ndarray, *, chroma: str = "420") -> np.ndarray:
     chroma : {"420", "422"}
         "420" averages 2x2 blocks, "422" horizontal pairs. An odd last row or
         column is replicated (so it is averaged with itself).
+    bits : int, optional
+        Round the means to sample codes of this many bits (half up, clipped; uint8 for
+        8 bits, else uint16), whatever the input's dtype.
 
     Returns
     -------
     ndarray
-        ``(ceil(H/2), ceil(W/2))`` for 4:2:0, ``(H, ceil(W/2))`` for 4:2:2; float64
-        for float input, otherwise rounded to nearest in the input dtype.
+        ``(ceil(H/2), ceil(W/2))`` for 4:2:0, ``(H, ceil(W/2))`` for 4:2:2: codes of
+        ``bits`` bits when given, else float64 for float input and otherwise rounded
+        to nearest in the input dtype.
+
+    Examples
+    --------
+    >>> downsample_chroma(np.array([[1, 2, 10], [3, 6, 20]], dtype=np.uint8)).tolist()
+    [[3, 15]]
     """
     plane = np.asarray(plane)
     if plane.ndim != 2:
         raise ValueError(f"a chroma plane must be 2-D, got shape {plane.shape}")
     if chroma not in ("420", "422"):
         raise ValueError(f"chroma must be '420' or '422', got {chroma!r}")
-    values = plane.astype(np.float64)
-    rows, cols = values.shape
-    pad_rows = rows % 2 if chroma == "420" else 0
-    values = np.pad(values, ((0, pad_rows), (0, cols % 2)), mode="edge")
-    if chroma == "420":
-        values = 0.5 * (values[0::2] + values[1::2])
-    values = 0.5 * (values[:, 0::2] + values[:, 1::2])
-    if plane.dtype.kind == "f":
-        return values
-    return np.clip(
-        np.floor(values + 0.5), np.iinfo(plane.dtype).min, np.iinfo(plane.dtype).max
-    ).astype(plane.dtype)
+    halved_rows = chroma == "420"
+    rows, cols = plane.shape
+    shape = (-(-rows // 2) if halved_rows else rows, -(-cols // 2))
+    if bits is not None:
+        _check_bits(bits)
+        out = np.empty(shape, np.uint8 if bits == 8 else np.uint16)
+        low, high = 0, 2**bits - 1
+    elif plane.dtype.kind == "f":
+        out = np.empty(shape)
+        low, high = 1, 0  # no rounding
+    else:
+        out = np.empty(shape, plane.dtype)
+        low, high = np.iinfo(plane.dtype).min, np.iinfo(plane.dtype).max
+    from mvtools.color.chroma_kernels import downsample_mean
+
+    downsample_mean(plane, halved_rows, float(low), float(high), out)
+    return out
 
 
 def _upsample_nearest(values: np.ndarray, size: int, axis: int) -> np.ndarray:
@@ -183,7 +199,7 @@ def upsample_chroma(
         if out is not None and (out[index].dtype.kind != "f" or out[index].shape != luma.shape):
             raise ValueError("out takes float arrays of the luma's shape")
         if method == "bilinear":
-            from mvtools.color.upsample import upsample_bilinear
+            from mvtools.color.chroma_kernels import upsample_bilinear
 
             values = np.empty(luma.shape) if out is None else out[index]
             upsample_bilinear(plane, halved[0], halved[1], values)

@@ -55,5 +55,5 @@ def from_working(image: np.ndarray, *, color_space: int, bits: int) -> tuple[np.
     if color_space == 1:
         return rgb_to_yuv(np.clip(image / max_value, 0.0, 1.0), chroma="420", bits=bits)
     dtype = np.uint8 if bits == 8 else np.uint16
-    planes = [image[..., 0]] + [downsample_chroma(image[..., channel]) for channel in (1, 2)]
-    return tuple(np.clip(np.floor(plane + 0.5), 0, max_value).astype(dtype) for plane in planes)
+    luma = np.clip(np.floor(image[..., 0] + 0.5), 0, max_value).astype(dtype)
+    return (luma, *(downsample_chroma(image[..., channel], bits=bits) for channel in (1, 2)))
