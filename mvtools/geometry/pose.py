@@ -28,6 +28,7 @@ A quarter turn about z, and halfway to it:
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Sequence
 from dataclasses import replace
 
@@ -252,7 +253,7 @@ def camera_path(
     n = len(keyframes)
     if n == 0:
         raise ValueError("a camera path needs at least one keyframe")
-    if not (isinstance(extend, (int, float)) and math.isfinite(extend) and extend >= 0):
+    if not (_real(extend) and math.isfinite(extend) and extend >= 0):
         raise ValueError(f"extend must be a finite number >= 0, got {extend!r}")
     least = 1 if n == 1 else 2
     if isinstance(frames, bool) or not isinstance(frames, (int, np.integer)) or frames < least:
@@ -311,6 +312,10 @@ def camera_path(
     return path
 
 
+def _real(value) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
+
+
 def _blend(a: np.ndarray, b: np.ndarray, s: float) -> np.ndarray:
     """``(1 - s) a + s b``, exactly ``a`` or ``b`` where they agree or ``s`` is 0 or 1."""
     if s == 0.0 or np.array_equal(a, b):
@@ -358,7 +363,7 @@ def eye_cameras(camera: Camera, ipd: float) -> tuple[Camera, Camera]:
     >>> left.name, left.t.tolist(), right.t.tolist()
     ('c_left', [0.968, 2.0, 3.0], [1.032, 2.0, 3.0])
     """
-    if isinstance(ipd, bool) or not isinstance(ipd, (int, float)) or not (0 < ipd < math.inf):
+    if not (_real(ipd) and 0 < ipd < math.inf):
         raise ValueError(f"the interpupillary distance must be a finite number > 0, got {ipd!r}")
     offset = 0.5 * float(ipd) * camera.R[0]
     left = replace(camera, name=camera.name + "_left", t=camera.t - offset, K=camera.K.copy())
