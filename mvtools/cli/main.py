@@ -25,6 +25,7 @@ PROGRAMS: dict[str, str] = {
     "encode": "encode",
     "bitrate": "bitrate",
     "report": "report",
+    "pointcloud": "pointcloud",
 }
 
 
@@ -75,3 +76,4 @@ evaluate_cli = _standalone("evaluate")
 convert_cli = _standalone("convert")
 inspect_cli = _standalone("inspect")
 scene_cli = _standalone("scene")
+pointcloud_cli = _standalone("pointcloud")
