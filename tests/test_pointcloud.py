@@ -317,3 +317,9 @@ def test_bad_render_options_exit_2_leaving_no_file(tmp_path, arguments, fragment
     assert code == 2
     assert_one_line_error(err, *fragments)
     assert [p.name for p in tmp_path.iterdir()] == ["line.ply"]
+
+
+def test_an_unknown_subcommand_is_one_line_and_exit_2():
+    code, _, err = invoke(command, "to-obj")
+    assert code == 2
+    assert_one_line_error(err, "No such command 'to-obj'")
