@@ -26,6 +26,7 @@ PROGRAMS: dict[str, str] = {
     "bitrate": "bitrate",
     "report": "report",
     "pointcloud": "pointcloud",
+    "navigate": "navigate",
 }
 
 
@@ -77,3 +78,4 @@ convert_cli = _standalone("convert")
 inspect_cli = _standalone("inspect")
 scene_cli = _standalone("scene")
 pointcloud_cli = _standalone("pointcloud")
+navigate_cli = _standalone("navigate")

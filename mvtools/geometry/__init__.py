@@ -16,7 +16,13 @@ from mvtools.lazy import attach
 #: Each exported name and the module of this package that defines it.
 _EXPORTS: dict[str, str] = {
     "Camera": "camera",
+    "same_camera": "camera",
     "turn_world": "camera",
+    "camera_path": "pose",
+    "eye_cameras": "pose",
+    "quaternion_from_rotation": "pose",
+    "rotation_from_quaternion": "pose",
+    "slerp": "pose",
     "DepthCoding": "depth",
     "check_depth_range": "depth",
     "depth_sign": "depth",

@@ -92,6 +92,16 @@ class Camera:
         )
 
 
+def same_camera(first: Camera, second: Camera) -> bool:
+    """True when the two cameras have exactly the same ``K``, ``R`` and ``t`` (they see
+    the same picture, whatever their names)."""
+    return (
+        np.array_equal(first.K, second.K)
+        and np.array_equal(first.R, second.R)
+        and np.array_equal(first.t, second.t)
+    )
+
+
 def turn_world(cameras, rotation: np.ndarray) -> list[Camera]:
     """The same cameras described in a world frame turned by ``rotation``.
 

@@ -31,6 +31,21 @@ def unfinished_file(path: str | os.PathLike) -> Iterator[None]:
         _UNFINISHED_FILES.discard(name)
 
 
+@contextlib.contextmanager
+def running_child(child: subprocess.Popen) -> Iterator[subprocess.Popen]:
+    """Within the block, ``child`` is a program that :func:`abort` kills; it is killed
+    too when the block raises."""
+    _CHILDREN.add(child)
+    try:
+        yield child
+    except BaseException:
+        child.kill()
+        child.wait()
+        raise
+    finally:
+        _CHILDREN.discard(child)
+
+
 def run_program(command: list[str]) -> subprocess.CompletedProcess:
     """``subprocess.run(command, capture_output=True, text=True)``, the child being
     killed by :func:`abort` and on any exception here."""

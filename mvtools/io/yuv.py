@@ -792,6 +792,57 @@ def read_frame(
 DEFAULT_FRAME_RATE = 25
 
 
+def y4m_header(fmt: YuvFormat, frame_rate: Fraction | int | str | None = None) -> bytes:
+    """The Y4M stream header of ``fmt`` (ffmpeg's colour-space tags); ``frame_rate``
+    None is :data:`DEFAULT_FRAME_RATE`."""
+    rate = Fraction(DEFAULT_FRAME_RATE if frame_rate is None else frame_rate)
+    return (
+        f"YUV4MPEG2 W{fmt.width} H{fmt.height} F{rate.numerator}:{rate.denominator} "
+        f"Ip A1:1 {_y4m_colorspace(fmt)}\n".encode("ascii")
+    )
+
+
+def frame_bytes(fmt: YuvFormat, planes: Sequence[np.ndarray] | np.ndarray) -> bytes:
+    """One frame's samples as a raw YUV file stores them.
+
+    Parameters
+    ----------
+    fmt : YuvFormat
+    planes : sequence of ndarray
+        ``(Y, U, V)`` (``(Y,)`` or a bare 2-D array for 4:0:0), shapes
+        ``fmt.plane_shapes``, dtype uint8 for 8 bits, uint16 above.
+
+    Raises
+    ------
+    ValueError
+        Wrong number of planes, shape or dtype, or samples above ``max_value``.
+    """
+    if isinstance(planes, np.ndarray) and planes.ndim == 2:
+        planes = (planes,)
+    if len(planes) != fmt.num_planes:
+        raise ValueError(f"{fmt.pix_fmt} frame needs {fmt.num_planes} planes, got {len(planes)}")
+    chunks = []
+    for name, plane, shape in zip("YUV", planes, fmt.plane_shapes):
+        plane = np.asarray(plane)
+        if plane.shape != shape:
+            raise ValueError(
+                f"plane {name} of a {fmt} frame must have shape {shape}, got {plane.shape}"
+            )
+        expected = np.uint8 if fmt.bits == 8 else np.uint16
+        if plane.dtype.kind != "u" or plane.dtype.itemsize != np.dtype(expected).itemsize:
+            raise ValueError(
+                f"plane {name} of a {fmt.bits}-bit frame must be {np.dtype(expected)}, "
+                f"got {plane.dtype}"
+            )
+        if fmt.bits not in (8, 16) and plane.size and int(plane.max()) > fmt.max_value:
+            raise ValueError(
+                f"plane {name} has value {int(plane.max())} above the {fmt.bits}-bit "
+                f"maximum {fmt.max_value}"
+            )
+        chunks.append(np.ascontiguousarray(plane, dtype=fmt.dtype).tobytes())
+    return b"".join(chunks)
+
+
 class VideoWriter:
     """Writes frames to a raw YUV or Y4M file, atomically. Use :func:`open_writer`.
 
@@ -821,11 +872,7 @@ class VideoWriter:
         else:
             self._file = self._stack.enter_context(atomic_output(self.path, "wb", what=what))
         if y4m:
-            rate = Fraction(DEFAULT_FRAME_RATE if frame_rate is None else frame_rate)
-            self._file.write(
-                f"YUV4MPEG2 W{fmt.width} H{fmt.height} F{rate.numerator}:{rate.denominator} "
-                f"Ip A1:1 {_y4m_colorspace(fmt)}\n".encode("ascii")
-            )
+            self._file.write(y4m_header(fmt, frame_rate))
 
     def write(self, planes: Sequence[np.ndarray] | np.ndarray) -> None:
         """Append one frame.
@@ -843,35 +890,10 @@ class VideoWriter:
         """
         if self._file is None:
             raise ValueError(f"{self.path}: the writer is closed")
-        fmt = self.format
-        if isinstance(planes, np.ndarray) and planes.ndim == 2:
-            planes = (planes,)
-        if len(planes) != fmt.num_planes:
-            raise ValueError(
-                f"{fmt.pix_fmt} frame needs {fmt.num_planes} planes, got {len(planes)}"
-            )
-        chunks = []
-        for name, plane, shape in zip("YUV", planes, fmt.plane_shapes):
-            plane = np.asarray(plane)
-            if plane.shape != shape:
-                raise ValueError(
-                    f"plane {name} of a {fmt} frame must have shape {shape}, got {plane.shape}"
-                )
-            expected = np.uint8 if fmt.bits == 8 else np.uint16
-            if plane.dtype.kind != "u" or plane.dtype.itemsize != np.dtype(expected).itemsize:
-                raise ValueError(
-                    f"plane {name} of a {fmt.bits}-bit frame must be {np.dtype(expected)}, "
-                    f"got {plane.dtype}"
-                )
-            if fmt.bits not in (8, 16) and plane.size and int(plane.max()) > fmt.max_value:
-                raise ValueError(
-                    f"plane {name} has value {int(plane.max())} above the {fmt.bits}-bit "
-                    f"maximum {fmt.max_value}"
-                )
-            chunks.append(np.ascontiguousarray(plane, dtype=fmt.dtype).tobytes())
+        data = frame_bytes(self.format, planes)
         if self.y4m:
             self._file.write(b"FRAME\n")
-        self._file.write(b"".join(chunks))
+        self._file.write(data)
         self.num_frames += 1
 
     def close(self) -> None:

@@ -57,6 +57,12 @@ _EXPORTS: dict[str, str] = {
     "write_unpacked": "pack",
     "rd_experiment": "encode",
     "EncoderSettings": "encode",
+    "navigate_video": "navigate",
+    "navigate_files": "navigate",
+    "NavigationOptions": "navigate",
+    "output_streams": "navigate",
+    "views_to_ply": "pointcloud",
+    "ply_to_views": "pointcloud",
 }
 
 __getattr__, __dir__, __all__ = attach(__name__, _EXPORTS)

@@ -347,7 +347,7 @@ def synthesize_loaded(
             "no reference view: give LeftCameraName (and RightCameraName) or --view",
             key="LeftCameraName",
         )
-    references = _facing(references, params.depth_type)
+    references = facing_references(references, params.depth_type)
     if "virtual_camera_name" not in loaded.cameras:
         raise loaded.entry("virtual_camera_name").error("no camera name given")
     virtual = facing_camera(
@@ -460,7 +460,7 @@ def _config_references(loaded: LoadedConfig) -> list[ReferenceFiles]:
     return references
 
 
-def _facing(references: list[ReferenceFiles], depth_type: int) -> list[ReferenceFiles]:
+def facing_references(references: list[ReferenceFiles], depth_type: int) -> list[ReferenceFiles]:
     """The references with cameras that face their depth ranges (one side of the scene)."""
     if depth_type == 0:
         sign = depth_sign(*references[0].depth_range)

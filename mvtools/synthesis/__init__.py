@@ -34,6 +34,11 @@ _EXPORTS: dict[str, str] = {
     "Synthesizer": "pipeline",
     "to_working": "working",
     "from_working": "working",
+    "ViewRenderer": "navigation",
+    "serving_views": "navigation",
+    "PointCloud": "pointcloud",
+    "points_from_views": "pointcloud",
+    "render_point_cloud": "pointcloud",
 }
 
 __getattr__, __dir__, __all__ = attach(__name__, _EXPORTS)

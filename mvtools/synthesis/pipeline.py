@@ -28,7 +28,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from mvtools.geometry.camera import Camera
+from mvtools.geometry.camera import Camera, same_camera
 from mvtools.geometry.projection import depth_along_axis, pixel_grid
 from mvtools.synthesis.blend import at_virtual_camera, merge_views, view_weights
 from mvtools.synthesis.boundary import remove_boundary_noise, soften_edges
@@ -60,6 +60,9 @@ class Synthesizer:
         The common range in whose 8-bit depth-value units ``depth_blend_difference``
         and the 1D ``depth_threshold`` compare the warped depths (whatever the
         ranges of the reference depth maps).
+    z_buffers : ZBuffers, optional
+        The general mode's z-buffers, shared with synthesizers that never run at the
+        same time as this one (default: its own).
     """
 
     def __init__(
@@ -70,6 +73,7 @@ class Synthesizer:
         *,
         size: tuple[int, int],
         depth_range: tuple[float, float],
+        z_buffers: ZBuffers | None = None,
     ):
         cameras = list(reference_cameras)
         if not cameras:
@@ -84,7 +88,7 @@ class Synthesizer:
         self._reference_at_virtual = bool(at_virtual_camera(virtual_camera, used_cameras).any())
         if options.mode == "general":
             # The views are warped one after the other: one set of z-buffers serves all.
-            z_buffers = ZBuffers()
+            z_buffers = ZBuffers() if z_buffers is None else z_buffers
             self._warpers = [
                 GeneralWarper(
                     camera,
@@ -242,12 +246,6 @@ def _distinct(cameras: list[Camera]) -> list[int]:
     """Indices of the first of each group of cameras at the same pose with the same K."""
     used: list[int] = []
     for i, camera in enumerate(cameras):
-        same = (
-            np.array_equal(camera.K, cameras[j].K)
-            and np.array_equal(camera.R, cameras[j].R)
-            and np.array_equal(camera.t, cameras[j].t)
-            for j in used
-        )
-        if not any(same):
+        if not any(same_camera(camera, cameras[j]) for j in used):
             used.append(i)
     return used
