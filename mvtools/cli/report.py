@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import math
+import re
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -41,10 +42,13 @@ MAX_PICTURES = 100
 def command(build_dir, output, title):
     """Write an HTML page of the results under BUILD_DIR: calibration errors per capture
     (plot and table) with the corner pictures, the first frame of every video (depth maps
-    colour-mapped), the scores mvtools evaluate wrote (*.scores), the disparity error
-    histograms of its --depth and --disparity scores (*.errors.json, from --json), and
-    rate-distortion curves with Bjontegaard deltas from mvtools encode. Pictures are embedded: the page is
-    one file.
+    colour-mapped), the scores mvtools evaluate wrote (*.scores: the table, a plot of the
+    luma PSNR along the frames, infinite values of identical frames left out, and a
+    contact sheet of up to 6 frames spread over the videos, first and last included, each
+    a row of reference | test | luma error x4), the disparity error histograms of its
+    --depth and --disparity scores (*.errors.json, from --json), and rate-distortion
+    curves with Bjontegaard deltas from mvtools encode. Pictures are embedded: the page
+    is one file.
     """
     folder = Path(build_dir)
     if not folder.is_dir():
@@ -138,10 +142,15 @@ def _first_frame(path: Path) -> np.ndarray | None:
     with open_video(path, fmt) as video:
         if len(video) == 0:
             return None
-        planes = video.read(0)
-        if "depth" in path.name:
-            return depth_preview(np.asarray(planes[0]), bits=fmt.bits)
-        return yuv_to_rgb(planes, bits=fmt.bits) if fmt.bits == 8 else None
+        return _rgb(video.read(0), fmt, path)
+
+
+def _rgb(planes, fmt, path: Path) -> np.ndarray | None:
+    """A frame's planes as an 8-bit RGB picture (a depth map colour-mapped), or None for
+    a texture of more than 8 bits."""
+    if "depth" in path.name:
+        return depth_preview(np.asarray(planes[0]), bits=fmt.bits)
+    return yuv_to_rgb(planes, bits=fmt.bits) if fmt.bits == 8 else None
 
 
 def _pictures(folder: Path) -> Section:
@@ -168,8 +177,10 @@ def _pictures(folder: Path) -> Section:
 
 
 def _scores(folder: Path) -> Section:
-    """The tables of the *.scores files (mvtools evaluate's output), each with the first
-    frames of its reference and test videos side by side and their luma error map."""
+    """The tables of the *.scores files (mvtools evaluate's output), each with a plot of
+    its luma PSNR along the frames (two frames or more) and a contact sheet of up to
+    :data:`SHEET_FRAMES` of its frames: reference | test | luma error (the first frame
+    alone when one frame was scored)."""
     section = Section("Scores (reference | test | luma error x4)")
     for path in sorted(folder.rglob("*.scores")):
         text = read_text(path, "scores file")
@@ -181,29 +192,122 @@ def _scores(folder: Path) -> Section:
         if header is None:
             continue
         rows = [line for line in lines if len(line) == len(header) and line[0] != "frame"]
-        section.items.append(Table(str(path.relative_to(folder)), header, rows))
+        name = str(path.relative_to(folder))
+        section.items.append(Table(name, header, rows))
+        frames = {int(row[0]): row for row in rows if row[0].isdigit()}
+        plot = _score_plot(name, header, frames)
+        if plot is not None:
+            section.items.append(plot)
         videos = {
             line[0]: Path(line[1])
             for line in lines
             if len(line) >= 2 and line[0] in ("reference", "test")
         }
         if set(videos) == {"reference", "test"} and all(map(Path.exists, videos.values())):
-            comparison = _comparison(
-                videos["reference"], videos["test"], str(path.relative_to(folder))
-            )
+            comparison = _comparison(videos["reference"], videos["test"], name, sorted(frames))
             if comparison is not None:
                 section.items.append(comparison)
     return section
 
 
-def _comparison(reference: Path, test: Path, caption: str) -> Picture | None:
-    pictures = [_first_frame(reference), _first_frame(test)]
-    if any(picture is None for picture in pictures) or pictures[0].shape != pictures[1].shape:
+# The frames of a scores file's contact sheet, at most.
+SHEET_FRAMES = 6
+
+
+def _luma_psnr_columns(header: list[str]) -> list[int]:
+    """The indices of the columns of ``header`` that are a luma PSNR in dB (``Y-PSNR``,
+    ``psnr_y``, ``PSNR-luma`` ...), or failing that of every PSNR column (``IV-PSNR``)."""
+    words = [set(re.split(r"[-_.\s]+", name.lower())) for name in header]
+    psnr = [index for index, name in enumerate(words) if index > 0 and "psnr" in name]
+    luma = [index for index in psnr if words[index] & {"y", "luma"}]
+    return luma or psnr
+
+
+def _score_plot(name: str, header: list[str], frames: dict[int, list[str]]) -> Plot | None:
+    """A plot of the luma PSNR columns of the table's rows ``frames`` (frame index to
+    row) along the frames, when there are two frames or more; infinite PSNRs (identical
+    frames) and cells that are not numbers are left out, and the caption says which."""
+    columns = _luma_psnr_columns(header)
+    if len(frames) < 2 or not columns:
         return None
-    luma = [picture.astype(np.float64) @ (0.299, 0.587, 0.114) for picture in pictures]
-    error = np.clip(np.abs(luma[0] - luma[1]) * 4, 0, 255).astype(np.uint8)
-    side_by_side = np.hstack([*pictures, np.repeat(error[..., None], 3, axis=2)])
-    return Picture(f"{caption}: {reference.name} | {test.name} | error", encode_image(side_by_side))
+    series, left_out = {}, set()
+    for column in columns:
+        points = []
+        for frame, row in frames.items():
+            try:
+                value = float(row[column])
+            except ValueError:
+                value = math.nan
+            if math.isfinite(value):
+                points.append((float(frame), value))
+            else:
+                left_out.add(frame)
+        if points:
+            series[header[column]] = points
+    if not series:
+        return None
+    caption = f"{name}: {', '.join(series)} per frame (dB)"
+    if left_out:
+        caption += (
+            f"; frames {', '.join(map(str, sorted(left_out)))} left out "
+            "(infinite PSNR: identical frames, or no number)"
+        )
+    return Plot(caption, line_plot(series, x_label="frame", y_label="dB"))
+
+
+def _spread(frames: list[int], count: int = SHEET_FRAMES) -> list[int]:
+    """At most ``count`` of ``frames`` evenly spread over them, the first and the last
+    included.
+
+    Examples
+    --------
+    >>> _spread(list(range(10)))
+    [0, 2, 4, 5, 7, 9]
+    >>> _spread([3, 4])
+    [3, 4]
+    """
+    if len(frames) <= count:
+        return list(frames)
+    picks = np.round(np.linspace(0, len(frames) - 1, count)).astype(int)
+    return [frames[index] for index in dict.fromkeys(picks.tolist())]
+
+
+def _comparison(
+    reference: Path, test: Path, caption: str, frames: list[int] | None = None
+) -> Picture | None:
+    """Rows of reference | test | luma error x4 of up to :data:`SHEET_FRAMES` of
+    ``frames`` (default: all of the videos'), stacked in one picture; None when the
+    videos cannot be shown side by side (no size in the names, more than 8 bits,
+    different sizes)."""
+    formats = [format_from_name(reference), format_from_name(test)]
+    if None in formats:
+        return None
+    with open_video(reference, formats[0]) as ref_video, open_video(test, formats[1]) as test_video:
+        length = min(len(ref_video), len(test_video))
+        frames = [frame for frame in frames or range(length) if 0 <= frame < length]
+        frames = _spread(frames or list(range(length)))
+        rows = []
+        # one frame at a time: a long video is never held whole
+        for frame in frames:
+            pictures = [
+                _rgb(video.read(frame), fmt, path)
+                for video, fmt, path in zip(
+                    (ref_video, test_video), formats, (reference, test), strict=True
+                )
+            ]
+            if any(picture is None for picture in pictures) or (
+                pictures[0].shape != pictures[1].shape
+            ):
+                return None
+            luma = [picture.astype(np.float64) @ (0.299, 0.587, 0.114) for picture in pictures]
+            error = np.clip(np.abs(luma[0] - luma[1]) * 4, 0, 255).astype(np.uint8)
+            rows.append(np.hstack([*pictures, np.repeat(error[..., None], 3, axis=2)]))
+    if not rows:
+        return None
+    label = f"{caption}: {reference.name} | {test.name} | error"
+    if len(frames) > 1:
+        label += f" x4, frames {', '.join(map(str, frames))}"
+    return Picture(label, encode_image(np.vstack(rows)))
 
 
 def _depth_errors(folder: Path) -> Section:
