@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 BUILD ?= build
 
 .DELETE_ON_ERROR:
-.PHONY: install sample demo chain published test test-fast lint bench clean
+.PHONY: install sample demo chain navigation published test test-fast lint bench clean
 
 install: $(VENV)/.installed
 
@@ -40,7 +40,7 @@ demo: install
 	$(BIN)/mvtools convert $(LINE)/v2_texture_256x192_yuv420p.yuv -o $(DEMO)/v2_texture_%02d.png
 	$(BIN)/mvtools convert $(LINE)/v2_depth_256x192_yuv420p.yuv --depth --preview -o $(DEMO)/v2_depth_%02d.png
 	$(BIN)/mvtools convert $(LINE)/v2_depth_256x192_gray16le.yuv --depth --to z --depth-range 2 13 -o $(DEMO)/v2_z_%02d.pfm
-	$(MAKE) --no-print-directory chain
+	$(MAKE) --no-print-directory chain navigation
 	$(BIN)/mvtools report $(DEMO)
 	@echo "demo outputs in $(DEMO), and the page of them all: $(DEMO)/report.html"
 
@@ -186,6 +186,31 @@ $(CHAIN)/atlas.yuv: $(CORRECTED_VIEWS) $(foreach c,$(CAMS),$(call depth,$(c)))
 	$(BIN)/mvtools pack --layout atlas -o $@ \
 	    $(foreach c,$(CAMS),--view cam$(c) $(CORRECTED)/$(call texture,$(c))) \
 	    $(foreach c,$(CAMS),--depth cam$(c) $(call depth,$(c)))
+
+# Free navigation on the line: a camera path through its five cameras, half an interval
+# beyond the outer ones, rendered from all five views (static content), scored frame by frame
+# against the scene ray-cast at each pose (the exact truth), and the two eyes of the same
+# path side by side, as a headset takes them.
+NAVIGATION := $(DEMO)/navigation
+PATH_FRAMES := 16
+NAVIGATE := $(BIN)/mvtools navigate $(LINE)/cameras.txt --depth-range 2 13 --static --precision 4 \
+    --frames $(PATH_FRAMES) --extend 0.5 $(foreach c,$(CAMS),--view cam$(c) $(LINE)/$(call texture,$(c)) \
+    --depth cam$(c) $(LINE)/v$(c)_depth_$(VIEW))
+$(NAVIGATION)/path_$(VIEW) $(NAVIGATION)/path.csv &: $(foreach c,$(CAMS),$(LINE)/$(call texture,$(c))) | install
+	mkdir -p $(@D)
+	$(NAVIGATE) --poses-output $(NAVIGATION)/path.csv -o $(NAVIGATION)/path_$(VIEW)
+$(NAVIGATION)/truth/path_texture_$(VIEW): $(NAVIGATION)/path.csv
+	mkdir -p $(@D)
+	$(BIN)/mvtools scene $(@D) --path $< --still
+$(NAVIGATION)/path.scores: $(NAVIGATION)/truth/path_texture_$(VIEW) $(NAVIGATION)/path_$(VIEW)
+	$(BIN)/mvtools evaluate $^ > $@
+$(NAVIGATION)/stereo_512x192_yuv420p.yuv: $(foreach c,$(CAMS),$(LINE)/$(call texture,$(c))) | install
+	mkdir -p $(@D)
+	$(NAVIGATE) --stereo --layout side-by-side -o $@
+navigation: $(NAVIGATION)/path.scores $(NAVIGATION)/stereo_512x192_yuv420p.yuv
+	@echo "a path of $(PATH_FRAMES) frames through the line and beyond, against the scene at each pose"
+	@echo "(Y-PSNR U V YUV Y-SSIM IV-PSNR, mean of the frames):"
+	@grep '^  mean' $(NAVIGATION)/path.scores
 
 # rate-distortion of the views and depth maps coded one by one and packed in one atlas, when
 # Debian's x265 and ffmpeg are installed (mvtools encode runs them)

@@ -52,7 +52,7 @@ _STREAM_LAYOUTS = ("side-by-side", "top-bottom", "grid")
     type=click.Choice(POSE_TRACE_CONVENTIONS),
     default="omaf",
     show_default=True,
-    help="Axes of the pose trace's angles: omaf as MPEG-I JSON cameras (x forward, y left, "
+    help="Axes of the pose traces' angles: omaf as MPEG-I JSON cameras (x forward, y left, "
     "z up), mpeg as the MPEG camera files (x right, y down, z forward).",
 )
 @click.option(
@@ -179,6 +179,13 @@ _STREAM_LAYOUTS = ("side-by-side", "top-bottom", "grid")
     help="The output video: raw YUV, .y4m, - (Y4M on standard output) or .mp4 (H.264 by "
     "ffmpeg); with several streams and no --layout a name holding %s.",
 )
+@click.option(
+    "--poses-output",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Also write the path's poses (the eyes' centres) as a pose trace in "
+    "--pose-convention, for another run or another program.",
+)
 @transposed_rotation_option
 @program
 def command(cameras, views, depths, depth_range, output, transposed_rotation, **options):
@@ -234,6 +241,11 @@ def command(cameras, views, depths, depth_range, output, transposed_rotation, **
         frame_rate=options["frame_rate"],
         progress=Progress(None, "frames rendered"),
     )
+    if options["poses_output"] is not None:
+        from mvtools.io.pose_trace import write_pose_trace
+
+        write_pose_trace(options["poses_output"], poses, convention=options["pose_convention"])
+        written.append(Path(options["poses_output"]))
     LOG.info("wrote %s", ", ".join(map(str, written)))
 
 

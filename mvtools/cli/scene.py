@@ -20,6 +20,7 @@ from mvtools.io.cameras import write_cameras
 from mvtools.io.config import write_config
 from mvtools.io.images import write_image
 from mvtools.io.json_cameras import write_json_cameras
+from mvtools.io.pose_trace import POSE_TRACE_CONVENTIONS
 from mvtools.io.yuv import YuvFormat, frame_from_luma, open_writer
 from mvtools.params import DersParams, VsrsParams
 
@@ -97,6 +98,23 @@ DISTORTED_CAPTURES = 20
     type=click.Choice(PARTS),
     help="Write only this part (repeatable; default: all).",
 )
+@click.option(
+    "--path",
+    "pose_trace",
+    type=click.Path(dir_okay=False, exists=True),
+    default=None,
+    help="Render only the scene along this pose trace (docs/pose-trace.md) with the rig "
+    "cameras' intrinsics: OUT_DIR/path_texture_WxH_yuv420p.yuv, frame k of the scene at "
+    "pose k (frame 0 with --still); the truth of an mvtools navigate path.",
+)
+@click.option(
+    "--pose-convention",
+    type=click.Choice(POSE_TRACE_CONVENTIONS),
+    default="omaf",
+    show_default=True,
+    help="Axes of the --path pose trace's angles.",
+)
+@click.option("--still", is_flag=True, help="Every pose of --path sees frame 0 of the scene.")
 @program
 def command(
     out_dir,
@@ -109,6 +127,9 @@ def command(
     capture_size,
     capture_noise,
     parts,
+    pose_trace,
+    pose_convention,
+    still,
 ):
     """Render the synthetic multiview scene into OUT_DIR, with exact ground truth.
 
@@ -139,6 +160,9 @@ def command(
     scene = default_scene(seed=seed)
     depth_range = (scene.znear, scene.zfar)
     rigs = sample_rigs(width, height, n=views, depth_range=depth_range, seed=seed)
+    if pose_trace is not None:
+        _write_path(out, scene, rigs["line"][0], pose_trace, pose_convention, still, samples)
+        return
     mismatches = random_color_mismatches(views, seed=seed, reference=views // 2)
     rig_parts = [part for part in PARTS[:3] if part in parts]
     progress = Progress(len(rig_parts) * views * frames, "views")
@@ -210,6 +234,23 @@ def command(
                 seed=seed,
             )
         )
+
+
+def _write_path(out: Path, scene, template, trace, convention, still, samples) -> None:
+    """The scene seen from each pose of a pose trace, with the intrinsics of ``template``."""
+    from mvtools.io.pose_trace import read_pose_trace
+    from mvtools.scene import render
+
+    cameras = read_pose_trace(trace, convention=convention, template=template)
+    width, height = template.size
+    progress = Progress(len(cameras), "poses")
+    with open_writer(
+        out / f"path_texture_{width}x{height}_yuv420p.yuv", YuvFormat(width, height)
+    ) as video:
+        for k, camera in enumerate(cameras):
+            result = render(scene, camera, frame=0 if still else k, samples=samples)
+            video.write(rgb_to_yuv(result.color))
+            progress.advance()
 
 
 def _texture_name(index: int, width: int, height: int) -> str:
