@@ -189,6 +189,21 @@ def test_dense_views_between_two_cameras(tmp_path):
         assert psnr(_input_luma("line", "cam2", k), views[1], max_value=255) > 35
 
 
+def test_dense_views_packed_in_a_grid(tmp_path):
+    # four views from camera 1 to camera 4 (one interval apart) in a 2x2 grid
+    output = tmp_path / "grid_512x384.yuv"
+    code, _, err = _navigate(
+        tmp_path, "line", "--dense", "--frames", "4", "--keyframe", "cam1", "--keyframe", "cam4",
+        "--static", "--layout", "grid", "-o", output,
+    )  # fmt: skip
+    assert code == 0, err
+    grid = _luma(output, 0, YuvFormat(512, 384))
+    for index, name in enumerate(["cam1", "cam2", "cam3", "cam4"]):
+        row, column = divmod(index, 2)
+        tile = grid[row * 192 : (row + 1) * 192, column * 256 : (column + 1) * 256]
+        np.testing.assert_array_equal(tile, _input_luma("line", name))
+
+
 @pytest.mark.skipif(shutil.which("ffprobe") is None, reason="ffmpeg is not installed")
 def test_mp4_output_through_ffmpeg(tmp_path):
     output = tmp_path / "path.mp4"
