@@ -90,9 +90,21 @@ def _iterate(data, right, down, messages, truncation, iterations):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _beliefs(data, messages):
+def _finer_messages(coarse, rows, cols):
+    # each pixel starts from the messages its 2x2 block received, written straight into
+    # the finer array (no repeated intermediate copies)
+    fine = np.empty((coarse.shape[0], rows, cols, coarse.shape[3]), np.float32)
+    for y in prange(rows):
+        for s in range(coarse.shape[0]):
+            for x in range(cols):
+                fine[s, y, x, :] = coarse[s, y // 2, x // 2, :]
+    return fine
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _beliefs(data, messages, beliefs):
+    # each element of data is read before it is written, so beliefs may be data itself
     rows, cols, levels = data.shape
-    beliefs = np.empty_like(data)
     for y in prange(rows):
         for x in range(cols):
             for d in range(levels):
@@ -134,6 +146,7 @@ def belief_propagation(
     truncation: float,
     scales: int = 5,
     iterations: int = 5,
+    overwrite: bool = False,
 ) -> np.ndarray:
     """Beliefs of hierarchical min-sum belief propagation.
 
@@ -152,6 +165,9 @@ def belief_propagation(
         messages start at zero and every finer level starts from its parent's.
     iterations : int
         Checkerboard half-sweeps per level.
+    overwrite : bool
+        Write the beliefs into ``cost`` (a contiguous float32 volume), which is then
+        lost: the four message volumes and that one are the largest arrays alive.
 
     Returns
     -------
@@ -173,16 +189,13 @@ def belief_propagation(
     while len(pyramid) < scales and min(pyramid[-1][0].shape[:2]) > 1:
         pyramid.append(_coarser(*pyramid[-1]))
     messages = None
-    for data, level_right, level_down in reversed(pyramid):
+    while pyramid:
+        # the coarser levels are dropped as soon as the finer one starts
+        data, level_right, level_down = pyramid.pop()
         if messages is None:
             messages = np.zeros((4,) + data.shape, np.float32)
         else:
-            # each pixel starts from the messages its 2x2 block received
-            messages = np.ascontiguousarray(
-                np.repeat(np.repeat(messages, 2, axis=1), 2, axis=2)[
-                    :, : data.shape[0], : data.shape[1]
-                ]
-            )
+            messages = _finer_messages(messages, data.shape[0], data.shape[1])
         _iterate(
             np.ascontiguousarray(data),
             np.ascontiguousarray(level_right),
@@ -191,7 +204,8 @@ def belief_propagation(
             np.float32(truncation),
             iterations,
         )
-    return _beliefs(cost, messages)
+        del data, level_right, level_down
+    return _beliefs(cost, messages, cost if overwrite else np.empty_like(cost))
 
 
 def bp_volume(
@@ -204,6 +218,7 @@ def bp_volume(
     colour_scale: float = 10.0,
     scales: int = 5,
     iterations: int = 5,
+    overwrite: bool = False,
 ) -> np.ndarray:
     """The ``bp`` method: hierarchical belief propagation's beliefs.
 
@@ -219,6 +234,8 @@ def bp_volume(
         Largest charged label difference.
     scales, iterations : int
         See :func:`belief_propagation`.
+    overwrite : bool
+        Write the result into ``cost`` (a contiguous float32 volume), which is then lost.
 
     Returns
     -------
@@ -229,5 +246,11 @@ def bp_volume(
         cost, guide, smoothing=smoothing, smoothing2=smoothing2, colour_scale=colour_scale
     )
     return belief_propagation(
-        cost, right, down, truncation=truncation, scales=scales, iterations=iterations
+        cost,
+        right,
+        down,
+        truncation=truncation,
+        scales=scales,
+        iterations=iterations,
+        overwrite=overwrite,
     )

@@ -18,6 +18,7 @@ __all__ = [
     "census_gradient_cost",
     "census_transform",
     "check_pair",
+    "mirror_costs",
     "popcount",
     "support_weights",
 ]
@@ -445,6 +446,62 @@ def as_colour(image: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(
         np.repeat(image[:, :, None], 3, axis=2) if image.ndim == 2 else image
     )
+
+
+def mirror_costs(volume: np.ndarray, *, min_disparity: int) -> np.ndarray:
+    """Turn, in place, the left view's cost volume of a pair into that of the mirrored,
+    swapped pair (``right[:, ::-1]`` as the left view, ``left[:, ::-1]`` as the right).
+
+    The mirrored pair's cost at ``(y, x, k)`` compares the right view's column
+    ``W - 1 - x`` with the left view's ``W - 1 - x + d``, which is the pair's own cost at
+    ``(y, W - 1 - x + d, k)`` when the cost is symmetric in its two views and the same
+    for mirrored views: so for :func:`ad_census_cost` (colour differences; census
+    signatures of a mirrored image hold the same comparisons in another bit order, and
+    Hamming distances ignore the order), bit for bit. Not so for
+    :func:`census_gradient_cost`, whose weighted sums run in bit order. Levels whose
+    match falls outside the image take the pair's own outside cost.
+
+    Parameters
+    ----------
+    volume : ndarray of float32, shape (H, W, D), contiguous
+        Costs of the disparities ``min_disparity .. min_disparity + D - 1``; overwritten.
+    min_disparity : int
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W, D)
+        ``volume``.
+
+    Examples
+    --------
+    >>> left = np.array([[[0], [10], [20], [60]]] * 3, np.uint8).repeat(3, axis=2)
+    >>> right = np.roll(left, -1, axis=1)
+    >>> costs = ad_census_cost(left, right, min_disparity=0, levels=2)
+    >>> mirrored = ad_census_cost(right[:, ::-1], left[:, ::-1], min_disparity=0, levels=2)
+    >>> bool(np.array_equal(mirror_costs(costs, min_disparity=0), mirrored))
+    True
+    """
+    if volume.ndim != 3 or volume.dtype != np.float32 or not volume.flags.c_contiguous:
+        raise ValueError("volume must be a contiguous (H, W, D) float32 array")
+    _mirror_rows(volume, int(min_disparity))
+    return volume
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _mirror_rows(volume, min_disparity):
+    rows, cols, levels = volume.shape
+    for y in prange(rows):
+        row = volume[y].copy()
+        for x in range(cols):
+            for k in range(levels):
+                d = min_disparity + k
+                source = cols - 1 - x + d
+                if 0 <= source < cols:
+                    volume[y, x, k] = row[source, k]
+                else:
+                    # outside: the pair's own outside entry of this level (x - d leaves
+                    # the image at column 0 for d > 0, at column W - 1 for d < 0)
+                    volume[y, x, k] = row[0, k] if d > 0 else row[cols - 1, k]
 
 
 #: name -> ``cost(left, right, *, min_disparity, levels) -> (H, W, levels) float32``,

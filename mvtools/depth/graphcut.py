@@ -125,10 +125,11 @@ def _move_energies(keep, take, terms, active):
     return keep, take, edges
 
 
-def _expansion_move(cost_by_level, labels, current, alpha, right, down, truncation):
+def _expansion_move(cost, labels, current, alpha, right, down, truncation):
     # One alpha-expansion move; updates labels and current (each pixel's data cost) in
-    # place and returns the energy change.
-    alpha_cost = cost_by_level[alpha]
+    # place and returns the energy change. The level's costs are gathered from the
+    # (H, W, D) volume itself: a transposed copy would be a second volume.
+    alpha_cost = np.ascontiguousarray(cost[:, :, alpha])
     keep = current.astype(np.float64)
     take = alpha_cost.astype(np.float64)
     terms = _edge_terms(labels, alpha, right, down, truncation)
@@ -194,7 +195,6 @@ def alpha_expansion(
         )
     if truncation < 1 or cycles < 1:
         raise ValueError(f"truncation and cycles must be at least 1, got {truncation} and {cycles}")
-    cost_by_level = np.ascontiguousarray(cost.transpose(2, 0, 1))
     labels = np.argmin(cost, axis=2)
     current = np.min(cost, axis=2)
     right = right.astype(np.float64)
@@ -202,7 +202,7 @@ def alpha_expansion(
     for _ in range(cycles):
         improved = False
         for alpha in range(levels):
-            change = _expansion_move(cost_by_level, labels, current, alpha, right, down, truncation)
+            change = _expansion_move(cost, labels, current, alpha, right, down, truncation)
             improved = improved or change < 0.0
         if not improved:
             break
@@ -210,25 +210,9 @@ def alpha_expansion(
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def label_energies(cost, labels, right, down, truncation):
-    """Each level's energy at each pixel given its neighbours' labels.
-
-    ``volume[y, x, d] = cost[y, x, d] + sum_q w_pq min(|d - f_q|, truncation)`` over the
-    4 neighbours ``q``.
-
-    Parameters
-    ----------
-    cost : ndarray of float32, shape (H, W, D)
-    labels : ndarray of int64, shape (H, W)
-    right, down : ndarray of float32, shapes (H, W - 1) and (H - 1, W)
-    truncation : int
-
-    Returns
-    -------
-    ndarray of float32, shape (H, W, D)
-    """
+def _label_energies(cost, labels, right, down, truncation, volume):
+    # each element is read before it is written, so volume may be cost itself
     rows, cols, levels = cost.shape
-    volume = np.empty_like(cost)
     for y in prange(rows):
         for x in range(cols):
             for d in range(levels):
@@ -245,6 +229,38 @@ def label_energies(cost, labels, right, down, truncation):
     return volume
 
 
+def label_energies(
+    cost: np.ndarray,
+    labels: np.ndarray,
+    right: np.ndarray,
+    down: np.ndarray,
+    truncation: int,
+    *,
+    out: np.ndarray | None = None,
+) -> np.ndarray:
+    """Each level's energy at each pixel given its neighbours' labels.
+
+    ``volume[y, x, d] = cost[y, x, d] + sum_q w_pq min(|d - f_q|, truncation)`` over the
+    4 neighbours ``q``.
+
+    Parameters
+    ----------
+    cost : ndarray of float32, shape (H, W, D)
+    labels : ndarray of int64, shape (H, W)
+    right, down : ndarray of float32, shapes (H, W - 1) and (H - 1, W)
+    truncation : int
+    out : ndarray of float32, shape (H, W, D), optional
+        Where to write the energies; it may be ``cost`` itself (in place).
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W, D)
+        ``out`` if given.
+    """
+    volume = np.empty_like(cost) if out is None else out
+    return _label_energies(cost, labels, right, down, truncation, volume)
+
+
 def graphcut_volume(
     cost: np.ndarray,
     guide: np.ndarray,
@@ -254,6 +270,7 @@ def graphcut_volume(
     truncation: int = 4,
     colour_scale: float = 10.0,
     cycles: int = 2,
+    overwrite: bool = False,
 ) -> np.ndarray:
     """The ``graphcut`` method: DERS's alpha-expansion, returned as label energies.
 
@@ -276,6 +293,9 @@ def graphcut_volume(
         Colour difference scale of the edge factor.
     cycles : int
         See :func:`alpha_expansion`.
+    overwrite : bool
+        Write the result into ``cost`` (a contiguous float32 volume), which is then lost:
+        one volume in memory instead of two.
 
     Returns
     -------
@@ -289,4 +309,6 @@ def graphcut_volume(
         cost, guide, smoothing=smoothing, smoothing2=smoothing2, colour_scale=colour_scale
     )
     labels = alpha_expansion(cost, right, down, truncation=truncation, cycles=cycles)
-    return label_energies(cost, labels, right, down, int(truncation))
+    return label_energies(
+        cost, labels, right, down, int(truncation), out=cost if overwrite else None
+    )

@@ -11,15 +11,19 @@ from numba import njit, prange
 
 __all__ = ["guided_filter", "local_volume", "soft_segment_aggregate"]
 
-# OpenCV filters images of at most 512 channels.
-_CHANNELS = 512
+# OpenCV (5) filters images of at most 128 channels.
+_CHANNELS = 128
+
+#: Bytes of one level chunk of :func:`guided_filter` (a few levels of a large frame).
+_CHUNK_BYTES = 1 << 24
 
 
 def _box(image: np.ndarray, radius: int) -> np.ndarray:
     # normalised (2r+1)^2 mean, borders reflected; every level of a volume at once
     size = (2 * radius + 1, 2 * radius + 1)
     if image.ndim < 3 or image.shape[2] <= _CHANNELS:
-        return cv2.boxFilter(image, -1, size, borderType=cv2.BORDER_REFLECT)
+        # (OpenCV drops a single channel's axis)
+        return cv2.boxFilter(image, -1, size, borderType=cv2.BORDER_REFLECT).reshape(image.shape)
     return np.concatenate(
         [
             cv2.boxFilter(
@@ -35,7 +39,12 @@ def _box(image: np.ndarray, radius: int) -> np.ndarray:
 
 
 def guided_filter(
-    volume: np.ndarray, guide: np.ndarray, *, radius: int, epsilon: float
+    volume: np.ndarray,
+    guide: np.ndarray,
+    *,
+    radius: int,
+    epsilon: float,
+    out: np.ndarray | None = None,
 ) -> np.ndarray:
     """Colour guided filter of every slice of a volume.
 
@@ -53,10 +62,14 @@ def guided_filter(
     epsilon : float
         Regularisation of the colour covariance ``Sigma``: colour variations well below
         ``sqrt(epsilon)`` are treated as flat, so the filter averages there; positive.
+    out : ndarray of float32, shape (H, W, D), optional
+        Where to write the result; it may be ``volume`` itself (in place), as the
+        levels are filtered a few at a time.
 
     Returns
     -------
     ndarray of float32, shape (H, W, D)
+        ``out`` if given.
     """
     if radius < 1 or epsilon <= 0:
         raise ValueError(
@@ -73,22 +86,34 @@ def guided_filter(
                 - mean_guide[:, :, i] * mean_guide[:, :, j]
             )
     inverse = np.linalg.inv(covariance + epsilon * np.eye(3, dtype=np.float32))
-    mean_volume = _box(volume, radius)
-    cross = [
-        _box(guide[:, :, [i]] * volume, radius) - mean_guide[:, :, [i]] * mean_volume
-        for i in range(3)
-    ]
-    offset = mean_volume
-    filtered = np.zeros_like(volume)
-    for i in range(3):
-        slope = sum(inverse[:, :, i, [j]] * cross[j] for j in range(3))
-        offset = offset - slope * mean_guide[:, :, [i]]
-        filtered += _box(slope, radius) * guide[:, :, [i]]
-    return filtered + _box(offset, radius)
+    result = np.empty_like(volume) if out is None else out
+    # A few levels at a time: every step is per level, so the filtered levels are the
+    # same whatever the chunk, and the temporaries stay small beside the volume.
+    chunk = min(_CHANNELS, max(1, _CHUNK_BYTES // max(1, volume.shape[0] * volume.shape[1] * 4)))
+    for start in range(0, volume.shape[2], chunk):
+        part = np.ascontiguousarray(volume[:, :, start : start + chunk])
+        mean_volume = _box(part, radius)
+        cross = [
+            _box(guide[:, :, [i]] * part, radius) - mean_guide[:, :, [i]] * mean_volume
+            for i in range(3)
+        ]
+        offset = mean_volume
+        filtered = np.zeros_like(part)
+        for i in range(3):
+            slope = sum(inverse[:, :, i, [j]] * cross[j] for j in range(3))
+            offset = offset - slope * mean_guide[:, :, [i]]
+            filtered += _box(slope, radius) * guide[:, :, [i]]
+        result[:, :, start : start + chunk] = filtered + _box(offset, radius)
+    return result
 
 
 def local_volume(
-    cost: np.ndarray, guide: np.ndarray, *, radius: int = 8, epsilon: float = 1e-4
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    radius: int = 8,
+    epsilon: float = 1e-4,
+    overwrite: bool = False,
 ) -> np.ndarray:
     """The ``local`` method: the cost volume aggregated by the guided filter.
 
@@ -102,14 +127,22 @@ def local_volume(
         Window half size.
     epsilon : float
         Guided filter regularisation, for colours in [0, 1].
+    overwrite : bool
+        Write the result into ``cost`` (a contiguous float32 volume), which is then lost:
+        one volume in memory instead of two.
 
     Returns
     -------
     ndarray of float32, shape (H, W, D)
         Aggregated costs; their per-pixel minimum is the winner-takes-all level.
     """
+    cost = np.ascontiguousarray(cost, dtype=np.float32)
     return guided_filter(
-        cost, np.asarray(guide, np.float32) / 255.0, radius=radius, epsilon=epsilon
+        cost,
+        np.asarray(guide, np.float32) / 255.0,
+        radius=radius,
+        epsilon=epsilon,
+        out=cost if overwrite else None,
     )
 
 

@@ -159,6 +159,7 @@ def sgm_volume(
     p1: float = 1.0,
     p2: float = 10.0,
     edge_scale: float = 3.0,
+    overwrite: bool = False,
 ) -> np.ndarray:
     """The ``sgm`` method: 8-path aggregation with P2 lowered across the guide's edges.
 
@@ -172,6 +173,9 @@ def sgm_volume(
         SGM penalties in cost units.
     edge_scale : float
         Grey-level step that halves P2.
+    overwrite : bool
+        Accepted for the interface of :data:`mvtools.depth.METHODS`; the costs are
+        read by every path to the end, so they stay intact beside the path sums.
 
     Returns
     -------

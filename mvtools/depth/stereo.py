@@ -7,7 +7,7 @@ from collections.abc import Callable
 import numpy as np
 
 from mvtools.depth.bp import bp_volume
-from mvtools.depth.cost import COSTS, check_pair
+from mvtools.depth.cost import COSTS, check_pair, mirror_costs
 from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.local import local_volume
 from mvtools.depth.oversegment import plane_segments
@@ -18,15 +18,20 @@ from mvtools.depth.sgm import sgm_volume, winner_takes_all
 
 __all__ = ["COSTS", "METHODS", "PAIR_METHODS", "estimate_disparity"]
 
-#: name -> ``method(cost, guide) -> volume``: ``cost`` of shape (H, W, D) float32, ``guide``
-#: the view the costs belong to, (H, W, 3) float32 RGB; the returned (H, W, D) float32
-#: volume is minimal at each pixel's chosen level.
+#: name -> ``method(cost, guide, *, overwrite=False) -> volume``: ``cost`` of shape
+#: (H, W, D) float32, ``guide`` the view the costs belong to, (H, W, 3) float32 RGB; the
+#: returned (H, W, D) float32 volume is minimal at each pixel's chosen level. With
+#: ``overwrite=True`` a method may write its result into ``cost`` (all but ``sgm`` do).
 METHODS: dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]] = {
     "sgm": sgm_volume,
     "local": local_volume,
     "graphcut": graphcut_volume,
     "bp": bp_volume,
 }
+
+#: costs whose mirrored pair's volume is a reindexing of the pair's own
+#: (:func:`mvtools.depth.cost.mirror_costs`)
+_MIRRORABLE = ("ad-census",)
 
 #: methods of :func:`estimate_disparity`: those of :data:`METHODS` and PatchMatch stereo,
 #: which optimises disparity planes rather than a cost volume.
@@ -172,12 +177,18 @@ def estimate_disparity(
         )
     left, right = check_pair(left, right, min_disparity=min_disparity, max_disparity=max_disparity)
     levels = max_disparity - min_disparity + 1
+    # Memory: one cost volume, which the method overwrites with its own where it can,
+    # then at most one while the segment planes are chosen, the costs computed again
+    # if the method overwrote them.
     costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
-    volume = METHODS["sgm" if method == "patchmatch" else method](costs, _rgb(left))
+    volume = METHODS["sgm" if method == "patchmatch" else method](costs, _rgb(left), overwrite=True)
+    # a method that kept the costs intact (sgm) spares computing them again below
+    costs = costs if segment_planes and not np.may_share_memory(costs, volume) else None
     disparity_left = winner_takes_all(volume) + min_disparity
     disparity_right = (
         winner_takes_all(volume, right_view=True, min_disparity=min_disparity) + min_disparity
     )
+    del volume
     if method == "patchmatch":
         planes = patchmatch_planes(
             left,
@@ -199,28 +210,38 @@ def estimate_disparity(
     segments = plane_segments(left) if segment_planes or segmentation else None
     if segment_planes:
         # Both views refined, then checked against each other: the right view's map is
-        # the left one of the mirrored, swapped pair.
+        # the left one of the mirrored, swapped pair, whose costs are those of the pair
+        # reindexed in place where the cost allows it, else computed once the pair's are
+        # freed.
         mirrored = [np.ascontiguousarray(view[:, ::-1]) for view in (right, left)]
-        disparity_left, disparity_right = (
-            _on_segment_planes(
-                disparity_left,
-                disparity_right,
-                left,
-                segments,
-                costs,
-                min_disparity=min_disparity,
-                subpixel=subpixel,
-            ),
-            _on_segment_planes(
-                disparity_right[:, ::-1],
-                disparity_left[:, ::-1],
-                mirrored[0],
-                plane_segments(mirrored[0]),
-                COSTS[cost](*mirrored, min_disparity=min_disparity, levels=levels),
-                min_disparity=min_disparity,
-                subpixel=subpixel,
-            )[:, ::-1],
+        mirrored_segments = plane_segments(mirrored[0])
+        if costs is None:
+            costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
+        refined_left = _on_segment_planes(
+            disparity_left,
+            disparity_right,
+            left,
+            segments,
+            costs,
+            min_disparity=min_disparity,
+            subpixel=subpixel,
         )
+        if cost in _MIRRORABLE:
+            costs = mirror_costs(costs, min_disparity=min_disparity)
+        else:
+            del costs
+            costs = COSTS[cost](*mirrored, min_disparity=min_disparity, levels=levels)
+        refined_right = _on_segment_planes(
+            disparity_right[:, ::-1],
+            disparity_left[:, ::-1],
+            mirrored[0],
+            mirrored_segments,
+            costs,
+            min_disparity=min_disparity,
+            subpixel=subpixel,
+        )[:, ::-1]
+        del costs
+        disparity_left, disparity_right = refined_left, refined_right
     return clean_up(
         disparity_left, disparity_right, left, segments=segments if segmentation else None
     )
