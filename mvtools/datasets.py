@@ -33,6 +33,8 @@ __all__ = [
     "ConesCase",
     "MiddleburyGroundTruth",
     "cones_multiview",
+    "ders_case_disparity",
+    "ders_search_level",
     "estimate_cones_disparities",
     "fill_from_farther_neighbour",
     "load_middlebury_ground_truth",
@@ -41,7 +43,17 @@ __all__ = [
     "opencv_sgbm_reference",
     "score_middlebury",
     "write_cones_case",
+    "write_middlebury_ders_case",
 ]
+
+#: Focal length (pixels) and baseline of the parallel cameras a Middlebury pair is written
+#: with as a DERS case: any pair gives the same disparities, d = f B / z.
+DERS_CASE_FOCAL = 1000.0
+DERS_CASE_BASELINE = 1.0
+
+#: DERS searches at most this many labels (planes): the finest SearchLevel that keeps the
+#: disparity search range within it is the case's.
+DERS_LABELS = 256
 
 
 @dataclass(frozen=True)
@@ -409,3 +421,125 @@ def opencv_sgbm_reference(left: np.ndarray, right: np.ndarray, *, disparities: i
     raw = matcher.compute(left[:, :, ::-1], right[:, :, ::-1])
     filled = fill_from_background(raw.astype(np.float32) / 16, raw >= 0)
     return np.nan_to_num(filled, nan=0.0)
+
+
+def ders_search_level(disparities: int) -> float:
+    """The finest SearchLevel (4, 2, 1) whose labels over ``0 .. disparities - 1`` fit in
+    :data:`DERS_LABELS`."""
+    for level in (4.0, 2.0, 1.0):
+        if (disparities - 1) * level + 1 <= DERS_LABELS:
+            return level
+    raise ValueError(f"{disparities} disparities do not fit in {DERS_LABELS} DERS labels")
+
+
+def write_middlebury_ders_case(
+    root: str | os.PathLike,
+    name: str,
+    folder: str | os.PathLike,
+    *,
+    left_view: str | None = None,
+    **settings,
+) -> Path:
+    """Write a published pair as the files of a DERS run: the depth of its left picture.
+
+    The center view is the set's left picture and its right neighbour the set's right
+    picture (the right camera one baseline to the right), or with ``left_view`` also a
+    left neighbour one baseline to the left (Tsukuba's ``2001/tsukuba/tsukuba2.png`` for
+    view 3 between views 2 and 4). Cameras: parallel, focal length
+    :data:`DERS_CASE_FOCAL`, principal point at the picture centre, baseline
+    :data:`DERS_CASE_BASELINE`. The disparity search range is the set's (``0 ..
+    disparities - 1``) at the finest SearchLevel with at most 256 labels
+    (:func:`ders_search_level`), and the output disparity range the same, written as
+    16-bit depth (``estimated_depth_WxH_gray16le.yuv``) so that its quantisation does
+    not count; pictures as YUV 4:2:0 8-bit (BT.601 limited range), as DERS reads them.
+
+    Parameters
+    ----------
+    root : path-like
+        The ``middlebury`` data folder.
+    name : str
+        A key of :data:`mvtools.io.middlebury.MIDDLEBURY_SETS` with a stated number of
+        disparities.
+    folder : path-like
+        Existing folder.
+    left_view : str, optional
+        Path (relative to ``root``) of a left neighbour's picture.
+    **settings
+        :class:`mvtools.params.DersParams` fields overriding the case's (``method``,
+        ``image_segmentation`` ...).
+
+    Returns
+    -------
+    Path
+        The configuration file, ``depth.cfg``.
+    """
+    from mvtools.params import DersParams
+
+    entry = MIDDLEBURY_SETS[name]
+    if entry.disparities is None:
+        raise ValueError(f"{name}: the set states no number of disparities")
+    folder = Path(folder)
+    pictures = {"center": Path(root) / entry.left, "right": Path(root) / entry.right}
+    if left_view is not None:
+        pictures["left"] = Path(root) / left_view
+    images = {side: read_image(path) for side, path in pictures.items()}
+    height, width = images["center"].shape[:2]
+    K = [
+        [DERS_CASE_FOCAL, 0.0, (width - 1) / 2],
+        [0.0, DERS_CASE_FOCAL, (height - 1) / 2],
+        [0, 0, 1],
+    ]
+    positions = {"left": -DERS_CASE_BASELINE, "center": 0.0, "right": DERS_CASE_BASELINE}
+    cameras = [
+        Camera(side, K, t=[positions[side], 0.0, 0.0], size=(width, height)) for side in images
+    ]
+    write_cameras(folder / "cameras.txt", cameras)
+    texture_format = YuvFormat(width, height)
+    files = {}
+    for side, image in images.items():
+        files[side] = f"{side}_{width}x{height}_yuv420p.yuv"
+        check_same_size(image[..., 0], images["center"][..., 0], pictures[side])
+        write_video(folder / files[side], texture_format, [rgb_to_yuv(image, chroma="420", bits=8)])
+    top = entry.disparities - 1
+    params = DersParams(
+        **{
+            "source_width": width,
+            "source_height": height,
+            "total_number_of_frames": 1,
+            "left_camera_name": "left" if left_view is not None else "",
+            "center_camera_name": "center",
+            "right_camera_name": "right",
+            "file_left_view_image": files.get("left", ""),
+            "file_center_view_image": files["center"],
+            "file_right_view_image": files["right"],
+            "file_output_depth_map_image": f"estimated_depth_{width}x{height}_gray16le.yuv",
+            "file_camera_parameter": "cameras.txt",
+            "minimum_value_of_disparity_search_range": 0,
+            "maximum_value_of_disparity_search_range": top,
+            "minimum_value_of_disparity_range": 0,
+            "maximum_value_of_disparity_range": top,
+            "search_level": ders_search_level(entry.disparities),
+            "match_direction": 3 if left_view is not None else 2,
+            **settings,
+        }
+    )
+    config = folder / "depth.cfg"
+    write_config(config, params)
+    return config
+
+
+def ders_case_disparity(depth_video: str | os.PathLike) -> np.ndarray:
+    """The center view's disparity (pixels, towards the right neighbour) from the depth
+    video of a :func:`write_middlebury_ders_case` run: its first frame's values through
+    the Znear/Zfar of its sidecar (``OUTPUT.json``) to ``z``, then ``d = f B / z``
+    (0 at infinity)."""
+    from mvtools.geometry.depth import DepthCoding
+    from mvtools.io.depth_sidecar import depth_sidecar_path, read_depth_sidecar
+    from mvtools.io.yuv import format_from_name, read_frame
+
+    sidecar = read_depth_sidecar(depth_sidecar_path(depth_video))
+    fmt = format_from_name(depth_video)
+    values = read_frame(depth_video, fmt)[0]
+    z = DepthCoding(sidecar.depth_range, fmt.bits).z(values)
+    with np.errstate(divide="ignore"):
+        return (DERS_CASE_FOCAL * DERS_CASE_BASELINE / z).astype(np.float32)

@@ -4,9 +4,20 @@
 depth maps, one frame at a time: depth planes uniform in ``1/z`` (from the disparity
 search range and the BaselineBasis camera, or from NearestSearchDepthValue,
 FarthestSearchDepthValue and NumberOfDepthSteps), the plane-sweep cost volume
-(:mod:`mvtools.depth.planesweep`), a method of :data:`mvtools.depth.METHODS`, sub-pixel
-winner-takes-all, filling of the pixels no neighbour sees from the background side, a
+(:mod:`mvtools.depth.planesweep`), a method of :data:`mvtools.depth.METHODS`,
+winner-takes-all, for rectified neighbours the left-right check of the stereo-pair mode
+(a neighbour's own choice of plane, from the same volume, must confirm the center's),
+filling of the pixels no neighbour sees or confirms from the background side, a
 colour-weighted median around depth edges, and DERS's temporal enhancement.
+
+Measured through DERS configurations of the Middlebury pairs
+(:func:`mvtools.datasets.write_middlebury_ders_case`, ``benchmarks/bench_ders.py``),
+bad 1.0 % with ``sgm``: the left-right check takes Tsukuba from 5.41 to 4.27, Venus
+from 2.13 to 1.52, Cones from 3.71 to 3.37. Keeping the depths on the search grid instead
+of refining them between planes would take Tsukuba (integer ground truth) to 3.16, but
+Venus and Cones (slanted surfaces) from 0.56 to 0.59 and 3.21 to 3.30 with
+ImageSegmentation 1, and the synthetic line from 95 to 89 % of pixels within a quarter
+pixel: the refinement stays.
 
 How DERS's keys are read:
 
@@ -37,12 +48,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit, prange
 
 from mvtools.depth import METHODS
 from mvtools.depth.local import soft_segment_aggregate
 from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
-from mvtools.depth.planesweep import plane_sweep_cost
+from mvtools.depth.planesweep import plane_sweep_cost, sweep_homographies
 from mvtools.depth.refine import (
     fill_from_background,
     median_smooth,
@@ -145,6 +157,7 @@ class DersEstimator:
         self.method = method
         self.inverse_depths = self._search_planes()
         self.depth_range = self._output_range()
+        self._shifts = _rectified_shifts(self.center, self.neighbours, self.inverse_depths, params)
         self._previous: tuple[np.ndarray, np.ndarray] | None = None
 
     # ------------------------------------------------------------------ planes and ranges
@@ -267,10 +280,13 @@ class DersEstimator:
             )
         else:
             volume = cost
-        level = winner_takes_all(np.ascontiguousarray(volume, np.float32))
+        volume = np.ascontiguousarray(volume, np.float32)
+        level = winner_takes_all(volume)
         levels = self.inverse_depths.size
         chosen = np.clip(np.rint(level).astype(np.intp), 0, levels - 1)
         seen = np.take_along_axis(sweep.seen, chosen[..., None], axis=2)[..., 0]
+        if self._shifts is not None:
+            seen &= _consistent_with_a_neighbour(volume, chosen, self._shifts)
         if params.image_segmentation:
             level = self._segment_planes(level, seen, cost, center)
         level = self._clean(level, seen, center)
@@ -333,6 +349,71 @@ class DersEstimator:
         kept = np.where(static, previous[1], z)
         self._previous = (luma, kept)
         return kept
+
+
+def _rectified_shifts(
+    center: Camera, neighbours: Sequence[Neighbour], inverse_depths: np.ndarray, params
+) -> np.ndarray | None:
+    """Horizontal shift of each plane into each neighbour, shape (N, D), when every
+    neighbour is a rectified partner of the center camera (each plane's homography a
+    translation along the rows: ``x_neighbour = x + shift``); None otherwise."""
+    if params.depth_type != 0:
+        return None
+    shifts = []
+    for neighbour in neighbours:
+        homographies = sweep_homographies(center, neighbour.camera, inverse_depths)
+        translation = np.zeros_like(homographies)
+        translation[:] = np.eye(3)
+        translation[:, 0, 2] = homographies[:, 0, 2] / homographies[:, 2, 2]
+        if not np.allclose(
+            homographies / homographies[:, 2:3, 2:3], translation, atol=1e-9, rtol=0
+        ):
+            return None
+        shifts.append(translation[:, 0, 2])
+    return np.array(shifts)
+
+
+def _consistent_with_a_neighbour(
+    volume: np.ndarray, chosen: np.ndarray, shifts: np.ndarray
+) -> np.ndarray:
+    """Pixels whose plane a rectified neighbour's own choice confirms (the left-right
+    check of the stereo-pair mode, from the same volume): the neighbour's pixel where the
+    center pixel's point lands takes, of all planes, the one whose center pixel costs
+    least, and that plane lies within a pixel of shift of the center's. With two
+    neighbours one that confirms is enough: a point hidden from one side is seen from
+    the other (DERS's occlusion rule)."""
+    consistent = np.zeros(chosen.shape, bool)
+    for shift in shifts:
+        own = _neighbour_levels(volume, shift)
+        consistent |= _confirmed(chosen, own, shift)
+    return consistent
+
+
+@njit(cache=True, nogil=True, parallel=True, error_model="numpy")
+def _neighbour_levels(volume, shift):
+    """For each pixel of a rectified neighbour, the plane whose center pixel (the one
+    whose point at that plane lands on it, ``x = x_neighbour - shift``, rounded) costs
+    least; -1 where no plane's center pixel is inside the picture."""
+    rows, cols, levels = volume.shape
+    own = np.full((rows, cols), -1, np.int64)
+    for y in prange(rows):
+        for x in range(cols):
+            best_cost = np.inf
+            for k in range(levels):
+                source = int(np.floor(x - shift[k] + 0.5))
+                if 0 <= source < cols and volume[y, source, k] < best_cost:
+                    best_cost = volume[y, source, k]
+                    own[y, x] = k
+    return own
+
+
+def _confirmed(chosen: np.ndarray, own: np.ndarray, shift: np.ndarray) -> np.ndarray:
+    rows, cols = chosen.shape
+    target = np.floor(np.arange(cols)[None, :] + shift[chosen] + 0.5).astype(np.int64)
+    inside = (target >= 0) & (target < cols)
+    theirs = own[np.arange(rows)[:, None], np.clip(target, 0, cols - 1)]
+    agree = np.abs(shift[chosen] - shift[np.maximum(theirs, 0)]) <= 1.0
+    return inside & (theirs >= 0) & agree
 
 
 def _block_mean(values: np.ndarray, block: int) -> np.ndarray:
