@@ -14,7 +14,7 @@ from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.patchmatch import patchmatch_planes, plane_disparity
 from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
 from mvtools.depth.refine import clean_up, left_right_consistent, refine_subpixel
-from mvtools.depth.sgm import sgm_volume, winner_takes_all
+from mvtools.depth.sgm import sgm_volume, sgm_winners, winner_takes_all
 
 __all__ = ["COSTS", "METHODS", "PAIR_METHODS", "estimate_disparity"]
 
@@ -181,14 +181,22 @@ def estimate_disparity(
     # then at most one while the segment planes are chosen, the costs computed again
     # if the method overwrote them.
     costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
-    volume = METHODS["sgm" if method == "patchmatch" else method](costs, _rgb(left), overwrite=True)
-    # a method that kept the costs intact (sgm) spares computing them again below
-    costs = costs if segment_planes and not np.may_share_memory(costs, volume) else None
-    disparity_left = winner_takes_all(volume) + min_disparity
-    disparity_right = (
-        winner_takes_all(volume, right_view=True, min_disparity=min_disparity) + min_disparity
-    )
-    del volume
+    if method in ("sgm", "patchmatch"):
+        # the sgm volume's winners a strip of rows at a time, the costs kept
+        disparity_left, disparity_right = (
+            view + min_disparity
+            for view in sgm_winners(costs, _rgb(left), min_disparity=min_disparity)
+        )
+        costs = costs if segment_planes else None
+    else:
+        volume = METHODS[method](costs, _rgb(left), overwrite=True)
+        # a method that kept the costs intact spares computing them again below
+        costs = costs if segment_planes and not np.may_share_memory(costs, volume) else None
+        disparity_left = winner_takes_all(volume) + min_disparity
+        disparity_right = (
+            winner_takes_all(volume, right_view=True, min_disparity=min_disparity) + min_disparity
+        )
+        del volume
     if method == "patchmatch":
         planes = patchmatch_planes(
             left,
