@@ -275,8 +275,13 @@ class DersEstimator:
                 colour_coeff=params.soft_color_coeff,
             )
         if params.smoothing_coefficient > 0:
+            scale = _NEUTRAL_SMOOTHING / params.smoothing_coefficient
+            # at the neutral smoothing no scaled copy of the volume is made, and the
+            # method may write into the costs unless the segment planes read them
             volume = METHODS[self.method](
-                cost * np.float32(_NEUTRAL_SMOOTHING / params.smoothing_coefficient), center
+                cost * np.float32(scale) if scale != 1 else cost,
+                center,
+                overwrite=scale != 1 or not params.image_segmentation,
             )
         else:
             volume = cost
