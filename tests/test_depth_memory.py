@@ -11,6 +11,7 @@ import pytest
 from scipy import ndimage
 
 from mvtools.depth import METHODS, estimate_disparity, local
+from mvtools.depth.bp import bp_volume, bp_winners
 from mvtools.depth.cost import ad_census_cost, census_gradient_cost, mirror_costs
 from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.sgm import sgm_volume, sgm_winners, winner_takes_all
@@ -57,6 +58,21 @@ def test_streamed_sgm_winners_are_those_of_the_volume(strip_rows, min_disparity)
     assert np.array_equal(
         streamed[1], winner_takes_all(volume, right_view=True, min_disparity=min_disparity)
     )
+
+
+@pytest.mark.parametrize("strip_rows", [1, 4, 32, 100])
+@pytest.mark.parametrize("scales", [1, 3])
+def test_streamed_bp_winners_are_those_of_the_volume(strip_rows, scales):
+    # odd sizes: coarse blocks cut by the frame's edges
+    left, right = _pair(rows=41, cols=67)
+    costs = ad_census_cost(left, right, min_disparity=2, levels=8)
+    before = costs.copy()
+    guide = left.astype(np.float32)
+    volume = bp_volume(costs, guide, scales=scales)
+    streamed = bp_winners(costs, guide, min_disparity=2, scales=scales, strip_rows=strip_rows)
+    assert np.array_equal(costs, before)
+    assert np.array_equal(streamed[0], winner_takes_all(volume))
+    assert np.array_equal(streamed[1], winner_takes_all(volume, right_view=True, min_disparity=2))
 
 
 @pytest.mark.parametrize("method", METHODS)

@@ -10,8 +10,9 @@ import numpy as np
 from numba import njit, prange
 
 from mvtools.depth.graphcut import smoothness_weights
+from mvtools.depth.sgm import winner_takes_all
 
-__all__ = ["belief_propagation", "bp_volume"]
+__all__ = ["belief_propagation", "bp_volume", "bp_winners"]
 
 # Incoming-message slots: the message a pixel received from its neighbour above,
 # below, on the left and on the right.
@@ -38,15 +39,16 @@ def _send(total, excluded, weight, truncation, out):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _iterate(data, right, down, messages, truncation, iterations):
+def _iterate(data, right, down, messages, truncation, iterations, row_offset):
     # Checkerboard schedule: a pixel of one parity reads only its own slots, written
     # by the other parity in the previous half-sweep, and writes only into its
-    # neighbours' slots, so every row runs in parallel.
+    # neighbours' slots, so every row runs in parallel. row_offset: the image row of
+    # row 0, when the arrays are a strip of rows, which keeps the parities.
     rows, cols, levels = data.shape
     for iteration in range(iterations):
         for y in prange(rows):
             total = np.empty(levels, np.float32)
-            for x in range((y + iteration) % 2, cols, 2):
+            for x in range((y + row_offset + iteration) % 2, cols, 2):
                 for d in range(levels):
                     total[d] = (
                         data[y, x, d]
@@ -90,14 +92,14 @@ def _iterate(data, right, down, messages, truncation, iterations):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _finer_messages(coarse, rows, cols):
+def _finer_messages(coarse, rows, cols, row_offset):
     # each pixel starts from the messages its 2x2 block received, written straight into
-    # the finer array (no repeated intermediate copies)
+    # the finer array (no repeated intermediate copies); rows row_offset .. + rows - 1
     fine = np.empty((coarse.shape[0], rows, cols, coarse.shape[3]), np.float32)
     for y in prange(rows):
         for s in range(coarse.shape[0]):
             for x in range(cols):
-                fine[s, y, x, :] = coarse[s, y // 2, x // 2, :]
+                fine[s, y, x, :] = coarse[s, (y + row_offset) // 2, x // 2, :]
     return fine
 
 
@@ -185,17 +187,32 @@ def belief_propagation(
             f"truncation, scales and iterations must be at least 1, got "
             f"{truncation}, {scales}, {iterations}"
         )
-    pyramid = [(cost, np.asarray(right, np.float32), np.asarray(down, np.float32))]
+    right = np.ascontiguousarray(right, np.float32)
+    down = np.ascontiguousarray(down, np.float32)
+    coarse = _coarse_messages(cost, right, down, truncation, scales, iterations)
+    messages = (
+        np.zeros((4,) + cost.shape, np.float32)
+        if coarse is None
+        else _finer_messages(coarse, rows, cols, 0)
+    )
+    del coarse
+    _iterate(cost, right, down, messages, np.float32(truncation), iterations, 0)
+    return _beliefs(cost, messages, cost if overwrite else np.empty_like(cost))
+
+
+def _coarse_messages(cost, right, down, truncation, scales, iterations):
+    # The messages of the level above the finest after its iterations (None with a
+    # single level), each coarser level dropped as soon as the finer one starts.
+    pyramid = [(cost, right, down)]
     while len(pyramid) < scales and min(pyramid[-1][0].shape[:2]) > 1:
         pyramid.append(_coarser(*pyramid[-1]))
     messages = None
-    while pyramid:
-        # the coarser levels are dropped as soon as the finer one starts
+    while len(pyramid) > 1:
         data, level_right, level_down = pyramid.pop()
         if messages is None:
             messages = np.zeros((4,) + data.shape, np.float32)
         else:
-            messages = _finer_messages(messages, data.shape[0], data.shape[1])
+            messages = _finer_messages(messages, data.shape[0], data.shape[1], 0)
         _iterate(
             np.ascontiguousarray(data),
             np.ascontiguousarray(level_right),
@@ -203,9 +220,10 @@ def belief_propagation(
             messages,
             np.float32(truncation),
             iterations,
+            0,
         )
         del data, level_right, level_down
-    return _beliefs(cost, messages, cost if overwrite else np.empty_like(cost))
+    return messages
 
 
 def bp_volume(
@@ -254,3 +272,85 @@ def bp_volume(
         iterations=iterations,
         overwrite=overwrite,
     )
+
+
+def bp_winners(
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    min_disparity: int = 0,
+    smoothing: float = 16.0,
+    smoothing2: float = 0.3,
+    truncation: float = 4.0,
+    colour_scale: float = 10.0,
+    scales: int = 5,
+    iterations: int = 5,
+    strip_rows: int = 32,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``bp`` method's winner-takes-all levels of both views, without its volume.
+
+    The coarser levels run as in :func:`belief_propagation`; the finest one a strip of
+    rows at a time, each strip widened by ``iterations`` rows on either side: a
+    half-sweep carries a message one row on, so the widened rows' missing neighbours
+    reach no further than the widening, and the strip's messages, beliefs and winners
+    are those of the whole frame, bit for bit. Beside the costs only the messages of
+    the level above (a quarter of the pixels, four slots: one volume) and a strip's
+    are kept, instead of four message volumes and the beliefs.
+
+    Parameters
+    ----------
+    cost, guide, smoothing, smoothing2, truncation, colour_scale, scales, iterations
+        As for :func:`bp_volume`; ``cost`` is not changed.
+    min_disparity : int
+        Disparity of level 0, for the right view's diagonals.
+    strip_rows : int
+        Rows per strip of the finest level, at least 1.
+
+    Returns
+    -------
+    left, right : ndarray of float32, shape (H, W)
+        ``winner_takes_all`` of the :func:`bp_volume` volume in the left view and, along
+        its diagonals, in the right view.
+    """
+    if strip_rows < 1:
+        raise ValueError(f"strip_rows must be at least 1, got {strip_rows}")
+    cost = np.ascontiguousarray(cost, dtype=np.float32)
+    right, down = smoothness_weights(
+        cost, guide, smoothing=smoothing, smoothing2=smoothing2, colour_scale=colour_scale
+    )
+    rows, cols, _levels = cost.shape
+    if truncation < 1 or scales < 1 or iterations < 1:
+        raise ValueError(
+            f"truncation, scales and iterations must be at least 1, got "
+            f"{truncation}, {scales}, {iterations}"
+        )
+    coarse = _coarse_messages(cost, right, down, truncation, scales, iterations)
+    left_levels = np.empty((rows, cols), np.float32)
+    right_levels = np.empty((rows, cols), np.float32)
+    for y0 in range(0, rows, strip_rows):
+        y1 = min(rows, y0 + strip_rows)
+        e0, e1 = max(0, y0 - iterations), min(rows, y1 + iterations)
+        messages = (
+            np.zeros((4, e1 - e0) + cost.shape[1:], np.float32)
+            if coarse is None
+            else _finer_messages(coarse, e1 - e0, cols, e0)
+        )
+        _iterate(
+            cost[e0:e1],
+            right[e0:e1],
+            down[e0 : e1 - 1],
+            messages,
+            np.float32(truncation),
+            iterations,
+            e0,
+        )
+        beliefs = _beliefs(
+            cost[y0:y1],
+            messages[:, y0 - e0 : y1 - e0],
+            np.empty((y1 - y0,) + cost.shape[1:], np.float32),
+        )
+        left_levels[y0:y1] = winner_takes_all(beliefs)
+        right_levels[y0:y1] = winner_takes_all(
+            beliefs, right_view=True, min_disparity=min_disparity
+        )
+    return left_levels, right_levels

@@ -6,7 +6,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from mvtools.depth.bp import bp_volume
+from mvtools.depth.bp import bp_volume, bp_winners
 from mvtools.depth.cost import COSTS, check_pair, mirror_costs
 from mvtools.depth.graphcut import graphcut_volume
 from mvtools.depth.local import local_volume
@@ -28,6 +28,10 @@ METHODS: dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]] = {
     "graphcut": graphcut_volume,
     "bp": bp_volume,
 }
+
+#: methods whose winners in both views come a strip of rows at a time, bit for bit
+#: those of their volume (patchmatch starts from sgm's)
+_STREAMED = {"sgm": sgm_winners, "patchmatch": sgm_winners, "bp": bp_winners}
 
 #: costs whose mirrored pair's volume is a reindexing of the pair's own
 #: (:func:`mvtools.depth.cost.mirror_costs`)
@@ -181,11 +185,11 @@ def estimate_disparity(
     # then at most one while the segment planes are chosen, the costs computed again
     # if the method overwrote them.
     costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
-    if method in ("sgm", "patchmatch"):
-        # the sgm volume's winners a strip of rows at a time, the costs kept
+    if method in _STREAMED:
+        # the method volume's winners a strip of rows at a time, the costs kept
         disparity_left, disparity_right = (
             view + min_disparity
-            for view in sgm_winners(costs, _rgb(left), min_disparity=min_disparity)
+            for view in _STREAMED[method](costs, _rgb(left), min_disparity=min_disparity)
         )
         costs = costs if segment_planes else None
     else:
