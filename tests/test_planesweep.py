@@ -4,6 +4,8 @@ neighbours (also when one of them sees garbage), and in a general layout."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import cv2
 import numpy as np
 import pytest
@@ -164,3 +166,34 @@ def test_bad_arguments(change, message):
     arguments.update(change)
     with pytest.raises(ValueError, match=message):
         plane_sweep_cost(**arguments)
+
+
+def test_rectified_neighbours_take_the_row_kernel_with_the_same_costs(monkeypatch):
+    # the sample line's cameras: every plane's homography is a shift along the rows
+    import mvtools.depth.planesweep as planesweep
+    from mvtools.color.space import yuv_to_rgb
+    from mvtools.io.cameras import read_cameras
+    from mvtools.io.yuv import YuvFormat, read_frame
+
+    line = Path(__file__).resolve().parent.parent / "sample_data" / "line"
+    cameras = read_cameras(line / "cameras.txt")
+    views = [
+        yuv_to_rgb(
+            read_frame(line / f"v{i}_texture_256x192_yuv420p.yuv", YuvFormat(256, 192)), bits=8
+        )
+        for i in (1, 2, 3)
+    ]
+    inverse = np.linspace(1 / 13, 1 / 2, 24)
+    homographies = sweep_homographies(cameras["cam2"], cameras["cam3"], inverse)
+    assert planesweep._sweep(homographies) is planesweep._sweep_along_rows
+    arguments = (
+        views[1],
+        [views[0], views[2]],
+        cameras["cam2"],
+        [cameras["cam1"], cameras["cam3"]],
+    )
+    rows = plane_sweep_cost(*arguments, inverse, precision=(4, 2))
+    monkeypatch.setattr(planesweep, "_sweep", lambda homographies: planesweep._sweep_neighbour)
+    general = plane_sweep_cost(*arguments, inverse, precision=(4, 2))
+    np.testing.assert_array_equal(rows.cost, general.cost)
+    np.testing.assert_array_equal(rows.seen, general.seen)

@@ -172,7 +172,7 @@ def plane_sweep_cost(
         homographies = sweep_homographies(center_camera, camera, inverse, depth_type=depth_type)
         census = _shifted_census(image.mean(axis=2), precision, _FILTERS[filter], census_window)
         if block == 1:
-            _sweep_neighbour(
+            _sweep(homographies)(
                 center_census,
                 center,
                 census,
@@ -186,7 +186,7 @@ def plane_sweep_cost(
         else:
             own = np.full_like(cost, outside_cost)
             own_seen = np.zeros_like(seen)
-            _sweep_neighbour(
+            _sweep(homographies)(
                 center_census,
                 center,
                 census,
@@ -206,6 +206,17 @@ def plane_sweep_cost(
             cost[better] = own[better]
             seen |= own_seen
     return PlaneSweep(cost, seen)
+
+
+def _sweep(homographies: np.ndarray):
+    """The kernel for a neighbour: :func:`_sweep_along_rows` when every plane's homography
+    is exactly a shift along the rows (rectified cameras), which gives the same costs
+    with a third of the arithmetic, else :func:`_sweep_neighbour`."""
+    translation = np.broadcast_to(np.eye(3), homographies.shape).copy()
+    translation[:, 0, 2] = homographies[:, 0, 2]
+    if np.array_equal(homographies, translation):
+        return _sweep_along_rows
+    return _sweep_neighbour
 
 
 def _shifted_census(
@@ -265,6 +276,49 @@ def _sweep_neighbour(
                 signature = census[
                     row % steps_y, column % steps_x, row // steps_y, column // steps_x
                 ]
+                value = (
+                    census_table[popcount(center_census[y, x] ^ signature)]
+                    + np.float32(1.0)
+                    - np.float32(np.exp(-colour * colour_scale))
+                )
+                if not seen[y, x, k] or value < cost[y, x, k]:
+                    cost[y, x, k] = value
+                    seen[y, x, k] = True
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _sweep_along_rows(
+    center_census, center, census, image, homographies, census_table, colour_scale, cost, seen
+):
+    # _sweep_neighbour for homographies that are shifts along the rows, u = x + shift,
+    # v = y: the same operations on the same values, with the row's terms taken once.
+    rows, cols = center_census.shape
+    steps_y, steps_x, height, width = census.shape
+    shifts = homographies[:, 0, 2].copy()
+    for y in prange(rows):
+        v = np.float64(y)
+        if not (-0.5 <= v <= height - 0.5):
+            continue
+        v0 = min(max(int(np.floor(v)), 0), height - 2) if height > 1 else 0
+        fv = min(max(v - v0, 0.0), 1.0)
+        v1 = min(v0 + 1, height - 1)
+        row = min(max(int(np.rint(v * steps_y)), 0), (height - 1) * steps_y)
+        row_phase, row_index = row % steps_y, row // steps_y
+        for x in range(cols):
+            for k in range(shifts.shape[0]):
+                u = x + shifts[k]
+                if not (-0.5 <= u <= width - 0.5):
+                    continue
+                u0 = min(max(int(np.floor(u)), 0), width - 2) if width > 1 else 0
+                fu = min(max(u - u0, 0.0), 1.0)
+                u1 = min(u0 + 1, width - 1)
+                colour = 0.0
+                for c in range(3):
+                    top = image[v0, u0, c] + fu * (image[v0, u1, c] - image[v0, u0, c])
+                    bottom = image[v1, u0, c] + fu * (image[v1, u1, c] - image[v1, u0, c])
+                    colour += abs(center[y, x, c] - (top + fv * (bottom - top)))
+                column = min(max(int(np.rint(u * steps_x)), 0), (width - 1) * steps_x)
+                signature = census[row_phase, column % steps_x, row_index, column // steps_x]
                 value = (
                     census_table[popcount(center_census[y, x] ^ signature)]
                     + np.float32(1.0)
