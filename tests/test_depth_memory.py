@@ -12,8 +12,8 @@ from scipy import ndimage
 
 from mvtools.depth import METHODS, estimate_disparity, local
 from mvtools.depth.bp import bp_volume, bp_winners
-from mvtools.depth.cost import ad_census_cost, census_gradient_cost, mirror_costs
-from mvtools.depth.graphcut import graphcut_volume
+from mvtools.depth.cost import ad_census_cost, ad_census_levels, census_gradient_cost, mirror_costs
+from mvtools.depth.graphcut import graphcut_labels, graphcut_volume, label_energies
 from mvtools.depth.sgm import sgm_volume, sgm_winners, winner_takes_all
 
 
@@ -61,7 +61,7 @@ def test_streamed_sgm_winners_are_those_of_the_volume(strip_rows, min_disparity)
 
 
 @pytest.mark.parametrize("strip_rows", [1, 4, 32, 100])
-@pytest.mark.parametrize("scales", [1, 3])
+@pytest.mark.parametrize("scales", [1, 3, 5])
 def test_streamed_bp_winners_are_those_of_the_volume(strip_rows, scales):
     # odd sizes: coarse blocks cut by the frame's edges
     left, right = _pair(rows=41, cols=67)
@@ -73,6 +73,29 @@ def test_streamed_bp_winners_are_those_of_the_volume(strip_rows, scales):
     assert np.array_equal(costs, before)
     assert np.array_equal(streamed[0], winner_takes_all(volume))
     assert np.array_equal(streamed[1], winner_takes_all(volume, right_view=True, min_disparity=2))
+
+
+@pytest.mark.parametrize("min_disparity", [0, 3])
+def test_ad_census_levels_are_the_volumes(min_disparity):
+    left, right = _pair()
+    volume = ad_census_cost(left, right, min_disparity=min_disparity, levels=9)
+    level = ad_census_levels(left, right, min_disparity=min_disparity, levels=9)
+    for k in range(9):
+        assert np.array_equal(level(k), volume[:, :, k])
+    with pytest.raises(ValueError, match="level 9"):
+        level(9)
+
+
+def test_graphcut_labels_level_by_level_are_those_of_the_volume():
+    left, right = _pair()
+    volume = ad_census_cost(left, right, min_disparity=0, levels=9)
+    guide = left.astype(np.float32)
+    labels, weights_right, weights_down = graphcut_labels(
+        ad_census_levels(left, right, min_disparity=0, levels=9), 9, guide
+    )
+    expected = graphcut_volume(volume.copy(), guide)
+    energies = label_energies(volume, labels, weights_right, weights_down, 4)
+    assert np.array_equal(energies, expected)
 
 
 @pytest.mark.parametrize("method", METHODS)

@@ -92,14 +92,15 @@ def _iterate(data, right, down, messages, truncation, iterations, row_offset):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _finer_messages(coarse, rows, cols, row_offset):
+def _finer_messages(coarse, rows, cols, row_offset, coarse_row_offset):
     # each pixel starts from the messages its 2x2 block received, written straight into
-    # the finer array (no repeated intermediate copies); rows row_offset .. + rows - 1
+    # the finer array (no repeated intermediate copies); the finer rows are those from
+    # row_offset on, the coarse ones from coarse_row_offset on
     fine = np.empty((coarse.shape[0], rows, cols, coarse.shape[3]), np.float32)
     for y in prange(rows):
         for s in range(coarse.shape[0]):
             for x in range(cols):
-                fine[s, y, x, :] = coarse[s, (y + row_offset) // 2, x // 2, :]
+                fine[s, y, x, :] = coarse[s, (y + row_offset) // 2 - coarse_row_offset, x // 2, :]
     return fine
 
 
@@ -193,7 +194,7 @@ def belief_propagation(
     messages = (
         np.zeros((4,) + cost.shape, np.float32)
         if coarse is None
-        else _finer_messages(coarse, rows, cols, 0)
+        else _finer_messages(coarse, rows, cols, 0, 0)
     )
     del coarse
     _iterate(cost, right, down, messages, np.float32(truncation), iterations, 0)
@@ -212,7 +213,7 @@ def _coarse_messages(cost, right, down, truncation, scales, iterations):
         if messages is None:
             messages = np.zeros((4,) + data.shape, np.float32)
         else:
-            messages = _finer_messages(messages, data.shape[0], data.shape[1], 0)
+            messages = _finer_messages(messages, data.shape[0], data.shape[1], 0, 0)
         _iterate(
             np.ascontiguousarray(data),
             np.ascontiguousarray(level_right),
@@ -285,7 +286,7 @@ def bp_winners(
     colour_scale: float = 10.0,
     scales: int = 5,
     iterations: int = 5,
-    strip_rows: int = 32,
+    strip_rows: int = 16,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The ``bp`` method's winner-takes-all levels of both views, without its volume.
 
@@ -324,29 +325,21 @@ def bp_winners(
             f"truncation, scales and iterations must be at least 1, got "
             f"{truncation}, {scales}, {iterations}"
         )
-    coarse = _coarse_messages(cost, right, down, truncation, scales, iterations)
+    # the pyramid's sizes and weights (small); its data costs come strip by strip
+    shapes = [(rows, cols)]
+    weights = [(np.ascontiguousarray(right, np.float32), np.ascontiguousarray(down, np.float32))]
+    while len(shapes) < scales and min(shapes[-1]) > 1:
+        level_right, level_down = weights[-1]
+        shapes.append((-(-shapes[-1][0] // 2), -(-shapes[-1][1] // 2)))
+        weights.append((_pair_sum(level_right[:, 1::2], 0), _pair_sum(level_down[1::2], 1)))
+    strip = _Strips(cost, shapes, weights, np.float32(truncation), iterations)
     left_levels = np.empty((rows, cols), np.float32)
     right_levels = np.empty((rows, cols), np.float32)
     for y0 in range(0, rows, strip_rows):
         y1 = min(rows, y0 + strip_rows)
-        e0, e1 = max(0, y0 - iterations), min(rows, y1 + iterations)
-        messages = (
-            np.zeros((4, e1 - e0) + cost.shape[1:], np.float32)
-            if coarse is None
-            else _finer_messages(coarse, e1 - e0, cols, e0)
-        )
-        _iterate(
-            cost[e0:e1],
-            right[e0:e1],
-            down[e0 : e1 - 1],
-            messages,
-            np.float32(truncation),
-            iterations,
-            e0,
-        )
         beliefs = _beliefs(
             cost[y0:y1],
-            messages[:, y0 - e0 : y1 - e0],
+            strip.messages(0, y0, y1),
             np.empty((y1 - y0,) + cost.shape[1:], np.float32),
         )
         left_levels[y0:y1] = winner_takes_all(beliefs)
@@ -354,3 +347,41 @@ def bp_winners(
             beliefs, right_view=True, min_disparity=min_disparity
         )
     return left_levels, right_levels
+
+
+class _Strips:
+    # Final messages of any pyramid level on a band of its rows, from the cost volume
+    # alone: the band widened by the iterations, started from the messages of the
+    # coarser level's band above it (computed the same way), its data costs summed
+    # from the cost rows under it. Each level's result is that of the whole frame.
+    def __init__(self, cost, shapes, weights, truncation, iterations):
+        self.cost, self.shapes, self.weights = cost, shapes, weights
+        self.truncation, self.iterations = truncation, iterations
+
+    def data(self, level, r0, r1):
+        # pyramid data of a level's rows r0 .. r1 - 1, as _coarser sums them
+        if level == 0:
+            return self.cost[r0:r1]
+        finer = self.data(level - 1, 2 * r0, min(2 * r1, self.shapes[level - 1][0]))
+        return _pair_sum(_pair_sum(finer, 0), 1)
+
+    def messages(self, level, a, b):
+        rows, cols = self.shapes[level]
+        e0, e1 = max(0, a - self.iterations), min(rows, b + self.iterations)
+        shape = (4, e1 - e0, cols, self.cost.shape[2])
+        if level == len(self.shapes) - 1:
+            messages = np.zeros(shape, np.float32)
+        else:
+            c0, c1 = e0 // 2, (e1 - 1) // 2 + 1
+            messages = _finer_messages(self.messages(level + 1, c0, c1), e1 - e0, cols, e0, c0)
+        right, down = self.weights[level]
+        _iterate(
+            np.ascontiguousarray(self.data(level, e0, e1)),
+            np.ascontiguousarray(right[e0:e1]),
+            np.ascontiguousarray(down[e0 : e1 - 1]),
+            messages,
+            self.truncation,
+            self.iterations,
+            e0,
+        )
+        return messages[:, a - e0 : b - e0]

@@ -5,6 +5,8 @@ difference of the intensity gradients."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import cv2
 import llvmlite.ir as ir
 import numpy as np
@@ -14,6 +16,7 @@ from numba.extending import intrinsic
 __all__ = [
     "COSTS",
     "ad_census_cost",
+    "ad_census_levels",
     "as_colour",
     "census_gradient_cost",
     "census_transform",
@@ -152,10 +155,10 @@ def _ad_census_volume(
     census_right,
     colour_left,
     colour_right,
-    min_disparity,
-    levels,
     census_table,
     colour_table,
+    min_disparity,
+    levels,
     outside_cost,
 ):
     rows, cols, _ = colour_left.shape
@@ -288,6 +291,16 @@ def ad_census_cost(
     ndarray of float32, shape (H, W, levels)
         Costs in [0, 2].
     """
+    return _ad_census_volume(
+        *_ad_census_inputs(left, right, census_window, lambda_census, lambda_colour),
+        int(min_disparity),
+        int(levels),
+        np.float32(outside_cost),
+    )
+
+
+def _ad_census_inputs(left, right, census_window, lambda_census, lambda_colour):
+    # the census signatures and colours of both views, and both terms' tables
     colour_left = as_colour(left)
     colour_right = as_colour(right)
     census_left = census_transform(colour_left.mean(axis=2), window=census_window)
@@ -297,17 +310,69 @@ def ad_census_cost(
     census_table = 1.0 - np.exp(-np.arange(65) / lambda_census)
     largest = int(max(colour_left.max(), colour_right.max(), 0))
     colour_table = 1.0 - np.exp(-np.arange(3 * largest + 1) / 3 / lambda_colour)
-    return _ad_census_volume(
+    return (
         census_left,
         census_right,
         colour_left,
         colour_right,
-        int(min_disparity),
-        int(levels),
         census_table.astype(np.float32),
         colour_table.astype(np.float32),
-        np.float32(outside_cost),
     )
+
+
+def ad_census_levels(
+    left: np.ndarray,
+    right: np.ndarray,
+    *,
+    min_disparity: int,
+    levels: int,
+    census_window: tuple[int, int] = (7, 9),
+    lambda_census: float = 30.0,
+    lambda_colour: float = 20.0,
+    outside_cost: float = 0.7,
+) -> Callable[[int], np.ndarray]:
+    """The levels of :func:`ad_census_cost` one at a time, without the volume.
+
+    Parameters
+    ----------
+    left, right, min_disparity, levels, census_window, lambda_census, lambda_colour, outside_cost
+        As for :func:`ad_census_cost`.
+
+    Returns
+    -------
+    callable
+        ``level(k)``: the (H, W) float32 costs of disparity ``min_disparity + k``, equal
+        to ``ad_census_cost(...)[:, :, k]``.
+
+    Examples
+    --------
+    >>> left = np.array([[[0], [10], [20], [60]]] * 3, np.uint8).repeat(3, axis=2)
+    >>> right = np.roll(left, -1, axis=1)
+    >>> level = ad_census_levels(left, right, min_disparity=0, levels=2)
+    >>> volume = ad_census_cost(left, right, min_disparity=0, levels=2)
+    >>> bool(np.array_equal(level(1), volume[:, :, 1]))
+    True
+    """
+    census_left, census_right, colour_left, colour_right, census_table, colour_table = (
+        _ad_census_inputs(left, right, census_window, lambda_census, lambda_colour)
+    )
+
+    def level(k: int) -> np.ndarray:
+        if not 0 <= k < levels:
+            raise ValueError(f"level {k} is not in 0..{levels - 1}")
+        return _ad_census_volume(
+            census_left,
+            census_right,
+            colour_left,
+            colour_right,
+            census_table,
+            colour_table,
+            int(min_disparity) + int(k),
+            1,
+            np.float32(outside_cost),
+        )[:, :, 0]
+
+    return level
 
 
 def census_gradient_cost(

@@ -8,11 +8,13 @@ energy by belief propagation."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import maxflow
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["alpha_expansion", "graphcut_volume", "smoothness_weights"]
+__all__ = ["alpha_expansion", "graphcut_labels", "graphcut_volume", "smoothness_weights"]
 
 
 def smoothness_weights(
@@ -125,11 +127,9 @@ def _move_energies(keep, take, terms, active):
     return keep, take, edges
 
 
-def _expansion_move(cost, labels, current, alpha, right, down, truncation):
+def _expansion_move(alpha_cost, labels, current, alpha, right, down, truncation):
     # One alpha-expansion move; updates labels and current (each pixel's data cost) in
-    # place and returns the energy change. The level's costs are gathered from the
-    # (H, W, D) volume itself: a transposed copy would be a second volume.
-    alpha_cost = np.ascontiguousarray(cost[:, :, alpha])
+    # place and returns the energy change; alpha_cost: the (H, W) costs of level alpha.
     keep = current.astype(np.float64)
     take = alpha_cost.astype(np.float64)
     terms = _edge_terms(labels, alpha, right, down, truncation)
@@ -197,16 +197,92 @@ def alpha_expansion(
         raise ValueError(f"truncation and cycles must be at least 1, got {truncation} and {cycles}")
     labels = np.argmin(cost, axis=2)
     current = np.min(cost, axis=2)
+    # each level gathered from the (H, W, D) volume: a transposed copy would be a
+    # second volume
+    return _expand(
+        lambda alpha: np.ascontiguousarray(cost[:, :, alpha]),
+        levels,
+        labels,
+        current,
+        right,
+        down,
+        truncation,
+        cycles,
+    )
+
+
+def _expand(level_cost, levels, labels, current, right, down, truncation, cycles):
     right = right.astype(np.float64)
     down = down.astype(np.float64)
     for _ in range(cycles):
         improved = False
         for alpha in range(levels):
-            change = _expansion_move(cost, labels, current, alpha, right, down, truncation)
+            change = _expansion_move(
+                level_cost(alpha), labels, current, alpha, right, down, truncation
+            )
             improved = improved or change < 0.0
         if not improved:
             break
     return labels
+
+
+def graphcut_labels(
+    level_cost: Callable[[int], np.ndarray],
+    levels: int,
+    guide: np.ndarray,
+    *,
+    smoothing: float = 16.0,
+    smoothing2: float = 1.0,
+    truncation: int = 4,
+    colour_scale: float = 10.0,
+    cycles: int = 2,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The expansion of :func:`graphcut_volume` from the costs of one level at a time.
+
+    The same labels as ``graphcut_volume`` on the volume whose level ``k`` is
+    ``level_cost(k)``, without holding that volume: the weights' cost range and the
+    winner-takes-all start are gathered level by level, each move asks for its level.
+
+    Parameters
+    ----------
+    level_cost : callable
+        ``level_cost(k)`` gives the (H, W) float32 costs of level ``k``, the same at
+        every call (e.g. :func:`mvtools.depth.cost.ad_census_levels`).
+    levels : int
+        Number of levels D.
+    guide, smoothing, smoothing2, truncation, colour_scale, cycles
+        As for :func:`graphcut_volume`.
+
+    Returns
+    -------
+    labels : ndarray of int64, shape (H, W)
+    right, down : ndarray of float32, shapes (H, W - 1) and (H - 1, W)
+        The smoothness weights (:func:`smoothness_weights`), for :func:`label_energies`.
+    """
+    if levels < 1 or truncation < 1 or cycles < 1:
+        raise ValueError(
+            f"levels, truncation and cycles must be at least 1, got "
+            f"{levels}, {truncation} and {cycles}"
+        )
+    current = np.array(level_cost(0), np.float32)
+    labels = np.zeros(current.shape, np.int64)
+    lowest, highest = current.min(), current.max()
+    for k in range(1, levels):
+        costs = np.asarray(level_cost(k), np.float32)
+        lowest, highest = min(lowest, costs.min()), max(highest, costs.max())
+        # strictly lower: the first level of least cost, as argmin takes it
+        lower = costs < current
+        labels[lower] = k
+        current[lower] = costs[lower]
+    right, down = smoothness_weights(
+        np.array([lowest, highest], np.float32),
+        guide,
+        smoothing=smoothing,
+        smoothing2=smoothing2,
+        colour_scale=colour_scale,
+    )
+    labels = _expand(level_cost, levels, labels, current, right, down, truncation, cycles)
+    return labels, right, down
 
 
 @njit(cache=True, nogil=True, parallel=True)

@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import inspect
 from collections.abc import Callable
 
 import numpy as np
 
 from mvtools.depth.bp import bp_volume, bp_winners
-from mvtools.depth.cost import COSTS, check_pair, mirror_costs
-from mvtools.depth.graphcut import graphcut_volume
+from mvtools.depth.cost import COSTS, ad_census_levels, check_pair, mirror_costs
+from mvtools.depth.graphcut import graphcut_labels, graphcut_volume, label_energies
 from mvtools.depth.local import local_volume
 from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.patchmatch import patchmatch_planes, plane_disparity
@@ -32,6 +33,12 @@ METHODS: dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]] = {
 #: methods whose winners in both views come a strip of rows at a time, bit for bit
 #: those of their volume (patchmatch starts from sgm's)
 _STREAMED = {"sgm": sgm_winners, "patchmatch": sgm_winners, "bp": bp_winners}
+
+#: costs that come one level at a time too (for graphcut's expansion)
+_LEVELWISE = {"ad-census": ad_census_levels}
+
+#: graphcut_volume's truncation, which its label energies take
+_GRAPHCUT_TRUNCATION = inspect.signature(graphcut_volume).parameters["truncation"].default
 
 #: costs whose mirrored pair's volume is a reindexing of the pair's own
 #: (:func:`mvtools.depth.cost.mirror_costs`)
@@ -184,8 +191,27 @@ def estimate_disparity(
     # Memory: one cost volume, which the method overwrites with its own where it can,
     # then at most one while the segment planes are chosen, the costs computed again
     # if the method overwrote them.
-    costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
-    if method in _STREAMED:
+    if method == "graphcut" and cost in _LEVELWISE:
+        # the expansion asks for one level at a time; the volume only for the energies
+        labels, weights_right, weights_down = graphcut_labels(
+            _LEVELWISE[cost](left, right, min_disparity=min_disparity, levels=levels),
+            levels,
+            _rgb(left),
+        )
+        costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
+        volume = label_energies(
+            costs, labels, weights_right, weights_down, _GRAPHCUT_TRUNCATION, out=costs
+        )
+        costs = None
+    else:
+        costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
+    if method == "graphcut" and cost in _LEVELWISE:
+        disparity_left = winner_takes_all(volume) + min_disparity
+        disparity_right = (
+            winner_takes_all(volume, right_view=True, min_disparity=min_disparity) + min_disparity
+        )
+        del volume
+    elif method in _STREAMED:
         # the method volume's winners a strip of rows at a time, the costs kept
         disparity_left, disparity_right = (
             view + min_disparity
