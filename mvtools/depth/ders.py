@@ -61,7 +61,7 @@ from mvtools.depth.refine import (
     near_depth_edges,
     weighted_median,
 )
-from mvtools.depth.sgm import winner_takes_all
+from mvtools.depth.sgm import sgm_strips, winner_takes_all
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import depth_sign, ders_depth_range, facing_camera
 from mvtools.params import DersParams
@@ -274,24 +274,28 @@ class DersEstimator:
                 distance_coeff=params.soft_distance_coeff,
                 colour_coeff=params.soft_color_coeff,
             )
+        shifts = [] if self._shifts is None else list(self._shifts)
         if params.smoothing_coefficient > 0:
             scale = _NEUTRAL_SMOOTHING / params.smoothing_coefficient
-            # at the neutral smoothing no scaled copy of the volume is made, and the
-            # method may write into the costs unless the segment planes read them
-            volume = METHODS[self.method](
-                cost * np.float32(scale) if scale != 1 else cost,
-                center,
-                overwrite=scale != 1 or not params.image_segmentation,
-            )
+            # at the neutral smoothing no scaled copy of the volume is made
+            scaled = cost * np.float32(scale) if scale != 1 else cost
+            if self.method == "sgm":
+                level, own = _sgm_winners(scaled, center, shifts)
+            else:
+                # the method may write into the costs unless the segment planes read them
+                volume = METHODS[self.method](
+                    scaled, center, overwrite=scale != 1 or not params.image_segmentation
+                )
+                level, own = _winners(volume, shifts)
+                del volume
         else:
-            volume = cost
-        volume = np.ascontiguousarray(volume, np.float32)
-        level = winner_takes_all(volume)
+            level, own = _winners(cost, shifts)
         levels = self.inverse_depths.size
         chosen = np.clip(np.rint(level).astype(np.intp), 0, levels - 1)
-        seen = np.take_along_axis(sweep.seen, chosen[..., None], axis=2)[..., 0]
-        if self._shifts is not None:
-            seen &= _consistent_with_a_neighbour(volume, chosen, self._shifts)
+        seen = sweep.seen_at(chosen)
+        del sweep
+        if shifts:
+            seen &= _confirmed_by_a_neighbour(chosen, own, shifts)
         if params.image_segmentation:
             level = self._segment_planes(level, seen, cost, center)
         level = self._clean(level, seen, center)
@@ -378,19 +382,40 @@ def _rectified_shifts(
     return np.array(shifts)
 
 
-def _consistent_with_a_neighbour(
-    volume: np.ndarray, chosen: np.ndarray, shifts: np.ndarray
+def _winners(volume: np.ndarray, shifts: list[np.ndarray]) -> tuple[np.ndarray, list]:
+    """The center's sub-pixel winning level, and each rectified neighbour's own winning
+    plane (:func:`_neighbour_levels`), from one volume."""
+    volume = np.ascontiguousarray(volume, np.float32)
+    return winner_takes_all(volume), [_neighbour_levels(volume, shift) for shift in shifts]
+
+
+def _sgm_winners(cost: np.ndarray, guide: np.ndarray, shifts: list[np.ndarray]):
+    """:func:`_winners` of the ``sgm`` volume, taken a strip of rows at a time
+    (:func:`mvtools.depth.sgm.sgm_strips`) so that the volume is never whole: each
+    neighbour's pixel picks among center pixels of its own row."""
+    rows, cols = cost.shape[:2]
+    level = np.empty((rows, cols), np.float32)
+    own = [np.empty((rows, cols), np.int64) for _ in shifts]
+    for y0, strip in sgm_strips(cost, guide):
+        height = strip.shape[0]
+        level[y0 : y0 + height] = winner_takes_all(strip)
+        for levels, shift in zip(own, shifts):
+            levels[y0 : y0 + height] = _neighbour_levels(strip, shift)
+    return level, own
+
+
+def _confirmed_by_a_neighbour(
+    chosen: np.ndarray, own: list[np.ndarray], shifts: list[np.ndarray]
 ) -> np.ndarray:
     """Pixels whose plane a rectified neighbour's own choice confirms (the left-right
     check of the stereo-pair mode, from the same volume): the neighbour's pixel where the
     center pixel's point lands takes, of all planes, the one whose center pixel costs
-    least, and that plane lies within a pixel of shift of the center's. With two
-    neighbours one that confirms is enough: a point hidden from one side is seen from
-    the other (DERS's occlusion rule)."""
+    least (:func:`_neighbour_levels`), and that plane lies within a pixel of shift of
+    the center's. With two neighbours one that confirms is enough: a point hidden from
+    one side is seen from the other (DERS's occlusion rule)."""
     consistent = np.zeros(chosen.shape, bool)
-    for shift in shifts:
-        own = _neighbour_levels(volume, shift)
-        consistent |= _confirmed(chosen, own, shift)
+    for levels, shift in zip(own, shifts):
+        consistent |= _confirmed(chosen, levels, shift)
     return consistent
 
 

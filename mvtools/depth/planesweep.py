@@ -33,18 +33,42 @@ _FILTERS = {"linear": cv2.INTER_LINEAR, "cubic": cv2.INTER_CUBIC}
 class PlaneSweep(NamedTuple):
     """Costs of a plane sweep.
 
+    Which neighbour sees which point is not stored (it would be a volume of its own):
+    :meth:`seen_at` works it out for the planes asked about, from the homographies.
+
     Attributes
     ----------
     cost : ndarray of float32, shape (H, W, D)
         Least cost over the neighbours that see the pixel's point on plane ``k``, in
         [0, 2]; ``outside_cost`` where none does.
-    seen : ndarray of bool, shape (H, W, D)
-        Whether any neighbour sees that point (it projects inside the neighbour's picture,
-        in front of the camera).
+    homographies : tuple of ndarray, each shape (D, 3, 3)
+        Each neighbour's plane homographies (:func:`sweep_homographies`).
+    sizes : tuple of (int, int)
+        Each neighbour's (height, width).
     """
 
     cost: np.ndarray
-    seen: np.ndarray
+    homographies: tuple
+    sizes: tuple
+
+    def seen_at(self, levels: np.ndarray) -> np.ndarray:
+        """Whether any neighbour sees each pixel's point on its plane ``levels[y, x]``
+        (it projects within half a pixel of the neighbour's picture, in front of the
+        camera), bool of shape (H, W)."""
+        levels = np.ascontiguousarray(levels, np.int64)
+        seen = np.zeros(levels.shape, bool)
+        for homographies, (height, width) in zip(self.homographies, self.sizes):
+            _mark_seen(homographies, height, width, levels, seen)
+        return seen
+
+    @property
+    def seen(self) -> np.ndarray:
+        """:meth:`seen_at` of every plane, bool of shape (H, W, D): a volume, for
+        inspection."""
+        rows, cols, count = self.cost.shape
+        return np.stack(
+            [self.seen_at(np.full((rows, cols), k, np.int64)) for k in range(count)], axis=2
+        )
 
 
 def sweep_homographies(
@@ -161,8 +185,9 @@ def plane_sweep_cost(
     rows, cols = center.shape[:2]
     census_table = (1.0 - np.exp(-np.arange(65) / lambda_census)).astype(np.float32)
     center_census = census_transform(center.mean(axis=2), window=census_window)
-    cost = np.full((rows, cols, inverse.size), outside_cost, np.float32)
-    seen = np.zeros((rows, cols, inverse.size), bool)
+    # NaN until a neighbour sees the point: the kernels keep the least cost of those that do
+    cost = np.full((rows, cols, inverse.size), np.nan, np.float32)
+    all_homographies, sizes = [], []
     for image, camera in zip(neighbours, neighbour_cameras):
         image = np.ascontiguousarray(image, np.float32)
         if image.ndim != 3 or image.shape[2] != 3:
@@ -170,6 +195,8 @@ def plane_sweep_cost(
                 f"neighbour {camera.name!r} must be an (H, W, 3) image, got shape {image.shape}"
             )
         homographies = sweep_homographies(center_camera, camera, inverse, depth_type=depth_type)
+        all_homographies.append(homographies)
+        sizes.append(image.shape[:2])
         census = _shifted_census(image.mean(axis=2), precision, _FILTERS[filter], census_window)
         if block == 1:
             _sweep(homographies)(
@@ -181,11 +208,9 @@ def plane_sweep_cost(
                 census_table,
                 np.float32(1.0 / (3.0 * lambda_colour)),
                 cost,
-                seen,
             )
         else:
-            own = np.full_like(cost, outside_cost)
-            own_seen = np.zeros_like(seen)
+            own = np.full_like(cost, np.nan)
             _sweep(homographies)(
                 center_census,
                 center,
@@ -195,17 +220,19 @@ def plane_sweep_cost(
                 census_table,
                 np.float32(1.0 / (3.0 * lambda_colour)),
                 own,
-                own_seen,
             )
+            own_seen = ~np.isnan(own)
+            own[~own_seen] = outside_cost
             # 3x3 means per plane (cv2 filters up to 512 channels at once)
             for first in range(0, inverse.size, 512):
                 own[..., first : first + 512] = cv2.blur(
                     own[..., first : first + 512], (3, 3), borderType=cv2.BORDER_REPLICATE
                 )
-            better = own_seen & (~seen | (own < cost))
+            better = own_seen & (np.isnan(cost) | (own < cost))
             cost[better] = own[better]
-            seen |= own_seen
-    return PlaneSweep(cost, seen)
+            del own, own_seen, better
+    _replace_nan(cost, np.float32(outside_cost))
+    return PlaneSweep(cost, tuple(all_homographies), tuple(sizes))
 
 
 def _sweep(homographies: np.ndarray):
@@ -243,7 +270,7 @@ def _shifted_census(
 
 @njit(cache=True, nogil=True, parallel=True)
 def _sweep_neighbour(
-    center_census, center, census, image, homographies, census_table, colour_scale, cost, seen
+    center_census, center, census, image, homographies, census_table, colour_scale, cost
 ):
     # One pass per neighbour, planes innermost: the volume is written in memory order.
     rows, cols = center_census.shape
@@ -281,14 +308,14 @@ def _sweep_neighbour(
                     + np.float32(1.0)
                     - np.float32(np.exp(-colour * colour_scale))
                 )
-                if not seen[y, x, k] or value < cost[y, x, k]:
+                # NaN (no neighbour yet) compares false: the first that sees it writes
+                if not value >= cost[y, x, k]:
                     cost[y, x, k] = value
-                    seen[y, x, k] = True
 
 
 @njit(cache=True, nogil=True, parallel=True)
 def _sweep_along_rows(
-    center_census, center, census, image, homographies, census_table, colour_scale, cost, seen
+    center_census, center, census, image, homographies, census_table, colour_scale, cost
 ):
     # _sweep_neighbour for homographies that are shifts along the rows, u = x + shift,
     # v = y: the same operations on the same values, with the row's terms taken once.
@@ -324,6 +351,30 @@ def _sweep_along_rows(
                     + np.float32(1.0)
                     - np.float32(np.exp(-colour * colour_scale))
                 )
-                if not seen[y, x, k] or value < cost[y, x, k]:
+                # NaN (no neighbour yet) compares false: the first that sees it writes
+                if not value >= cost[y, x, k]:
                     cost[y, x, k] = value
-                    seen[y, x, k] = True
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _mark_seen(homographies, height, width, levels, seen):
+    # the test of the sweep kernels, for one plane per pixel
+    rows, cols = levels.shape
+    for y in prange(rows):
+        for x in range(cols):
+            h = homographies[levels[y, x]]
+            w = h[2, 0] * x + h[2, 1] * y + h[2, 2]
+            u = (h[0, 0] * x + h[0, 1] * y + h[0, 2]) / w
+            v = (h[1, 0] * x + h[1, 1] * y + h[1, 2]) / w
+            if w > 0 and -0.5 <= u <= width - 0.5 and -0.5 <= v <= height - 0.5:
+                seen[y, x] = True
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _replace_nan(volume, value):
+    rows, cols, count = volume.shape
+    for y in prange(rows):
+        for x in range(cols):
+            for k in range(count):
+                if np.isnan(volume[y, x, k]):
+                    volume[y, x, k] = value

@@ -8,7 +8,14 @@ import numba
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["PATHS_8", "aggregate_paths", "sgm_volume", "sgm_winners", "winner_takes_all"]
+__all__ = [
+    "PATHS_8",
+    "aggregate_paths",
+    "sgm_strips",
+    "sgm_volume",
+    "sgm_winners",
+    "winner_takes_all",
+]
 
 # (dy, dx) steps of the 8 paths: each pixel's cost is smoothed along the line it came from.
 PATHS_8 = ((0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (1, -1), (-1, 1), (-1, -1))
@@ -345,42 +352,38 @@ def _sweep_strip(
                 state_out[x, :] = previous[c, :]
 
 
-def sgm_winners(
+def sgm_strips(
     cost: np.ndarray,
     guide: np.ndarray,
     *,
-    min_disparity: int = 0,
     p1: float = 1.0,
     p2: float = 10.0,
     edge_scale: float = 3.0,
     strip_rows: int | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The ``sgm`` method's winner-takes-all levels of both views, without its volume.
+):
+    """The ``sgm`` method's volume a strip of rows at a time, top to bottom.
 
-    The path sums of :func:`sgm_volume` are made a strip of rows at a time and each
-    strip's winners taken at once (a row's right-view levels lie on the same row):
-    the downward paths carry their last row from strip to strip, the upward ones start
+    The path sums of :func:`sgm_volume` are made a strip of rows at a time: the
+    downward paths carry their last row from strip to strip, the upward ones start
     each strip from their row below it, kept from a first upward sweep over the image.
-    Every sum is the same as in :func:`sgm_volume`, added in the same order, so the
-    levels are those of :func:`winner_takes_all` on its volume, bit for bit, while
-    beside the costs only a strip of sums and the upward paths' rows at the strip
-    boundaries are kept (about ``2 sqrt(3 H)`` rows of the volume instead of ``H``).
+    Every sum is the same as in :func:`sgm_volume`, added in the same order, so each
+    strip is those rows of its volume, bit for bit, while beside the costs only a strip
+    of sums and the upward paths' rows at the strip boundaries are kept (about
+    ``2 sqrt(3 H)`` rows of the volume instead of ``H``).
 
     Parameters
     ----------
     cost, guide, p1, p2, edge_scale
         As for :func:`sgm_volume`; ``cost`` is not changed.
-    min_disparity : int
-        Disparity of level 0, for the right view's diagonals.
     strip_rows : int, optional
         Rows per strip; ``sqrt(3 H)`` by default, which balances the strip against the
         kept boundary rows.
 
-    Returns
-    -------
-    left, right : ndarray of float32, shape (H, W)
-        ``winner_takes_all(volume)`` and ``winner_takes_all(volume, right_view=True,
-        min_disparity=min_disparity)`` of the ``sgm`` volume.
+    Yields
+    ------
+    (y0, strip)
+        The first row and the rows ``y0 ..`` of the volume, float32 of shape
+        (rows in the strip, W, D); a strip is valid until the next is asked for.
     """
     if not 0 <= p1 <= p2:
         raise ValueError(f"SGM penalties need 0 <= P1 <= P2, got P1={p1}, P2={p2}")
@@ -410,8 +413,6 @@ def sgm_winners(
             )  # fmt: skip
             entry[path][s - 1] = state = following
     downward = {path: np.empty((cols, levels), np.float32) for path in PATHS_8 if path[0] > 0}
-    left = np.empty((rows, cols), np.float32)
-    right = np.empty((rows, cols), np.float32)
     for s, (y0, height) in enumerate(zip(starts, heights, strict=True)):
         total = np.zeros((height, cols, levels), np.float32)
         for path in PATHS_8:
@@ -428,6 +429,42 @@ def sgm_winners(
                 downward[path] = following
             else:
                 entry[path][s] = None
+        yield y0, total
+
+
+def sgm_winners(
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    min_disparity: int = 0,
+    p1: float = 1.0,
+    p2: float = 10.0,
+    edge_scale: float = 3.0,
+    strip_rows: int | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``sgm`` method's winner-takes-all levels of both views, without its volume:
+    each strip of :func:`sgm_strips` gives its rows' winners at once (a row's
+    right-view levels lie on the same row).
+
+    Parameters
+    ----------
+    cost, guide, p1, p2, edge_scale, strip_rows
+        As for :func:`sgm_strips`.
+    min_disparity : int
+        Disparity of level 0, for the right view's diagonals.
+
+    Returns
+    -------
+    left, right : ndarray of float32, shape (H, W)
+        ``winner_takes_all(volume)`` and ``winner_takes_all(volume, right_view=True,
+        min_disparity=min_disparity)`` of the ``sgm`` volume.
+    """
+    rows, cols = cost.shape[:2]
+    left = np.empty((rows, cols), np.float32)
+    right = np.empty((rows, cols), np.float32)
+    strips = sgm_strips(cost, guide, p1=p1, p2=p2, edge_scale=edge_scale, strip_rows=strip_rows)
+    for y0, total in strips:
+        height = total.shape[0]
         left[y0 : y0 + height] = winner_takes_all(total)
         right[y0 : y0 + height] = winner_takes_all(
             total, right_view=True, min_disparity=min_disparity
