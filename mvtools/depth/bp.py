@@ -12,7 +12,7 @@ from numba import njit, prange
 from mvtools.depth.graphcut import smoothness_weights
 from mvtools.depth.sgm import winner_takes_all
 
-__all__ = ["belief_propagation", "bp_volume", "bp_winners"]
+__all__ = ["belief_propagation", "bp_strips", "bp_volume", "bp_winners"]
 
 # Incoming-message slots: the message a pixel received from its neighbour above,
 # below, on the left and on the right.
@@ -275,11 +275,10 @@ def bp_volume(
     )
 
 
-def bp_winners(
+def bp_strips(
     cost: np.ndarray,
     guide: np.ndarray,
     *,
-    min_disparity: int = 0,
     smoothing: float = 16.0,
     smoothing2: float = 0.3,
     truncation: float = 4.0,
@@ -287,31 +286,29 @@ def bp_winners(
     scales: int = 5,
     iterations: int = 5,
     strip_rows: int = 16,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The ``bp`` method's winner-takes-all levels of both views, without its volume.
+):
+    """The ``bp`` method's volume (its beliefs) a strip of rows at a time, top to bottom.
 
     The coarser levels run as in :func:`belief_propagation`; the finest one a strip of
     rows at a time, each strip widened by ``iterations`` rows on either side: a
     half-sweep carries a message one row on, so the widened rows' missing neighbours
-    reach no further than the widening, and the strip's messages, beliefs and winners
-    are those of the whole frame, bit for bit. Beside the costs only the messages of
-    the level above (a quarter of the pixels, four slots: one volume) and a strip's
-    are kept, instead of four message volumes and the beliefs.
+    reach no further than the widening, and the strip's messages and beliefs are those
+    of the whole frame, bit for bit. Beside the costs only the messages of the level
+    above (a quarter of the pixels, four slots: one volume) and a strip's are kept,
+    instead of four message volumes and the beliefs.
 
     Parameters
     ----------
     cost, guide, smoothing, smoothing2, truncation, colour_scale, scales, iterations
         As for :func:`bp_volume`; ``cost`` is not changed.
-    min_disparity : int
-        Disparity of level 0, for the right view's diagonals.
     strip_rows : int
         Rows per strip of the finest level, at least 1.
 
-    Returns
-    -------
-    left, right : ndarray of float32, shape (H, W)
-        ``winner_takes_all`` of the :func:`bp_volume` volume in the left view and, along
-        its diagonals, in the right view.
+    Yields
+    ------
+    (y0, strip)
+        The first row and the rows ``y0 ..`` of the :func:`bp_volume` volume, float32
+        of shape (rows in the strip, W, D).
     """
     if strip_rows < 1:
         raise ValueError(f"strip_rows must be at least 1, got {strip_rows}")
@@ -333,8 +330,6 @@ def bp_winners(
         shapes.append((-(-shapes[-1][0] // 2), -(-shapes[-1][1] // 2)))
         weights.append((_pair_sum(level_right[:, 1::2], 0), _pair_sum(level_down[1::2], 1)))
     strip = _Strips(cost, shapes, weights, np.float32(truncation), iterations)
-    left_levels = np.empty((rows, cols), np.float32)
-    right_levels = np.empty((rows, cols), np.float32)
     for y0 in range(0, rows, strip_rows):
         y1 = min(rows, y0 + strip_rows)
         beliefs = _beliefs(
@@ -342,6 +337,38 @@ def bp_winners(
             strip.messages(0, y0, y1),
             np.empty((y1 - y0,) + cost.shape[1:], np.float32),
         )
+        yield y0, beliefs
+
+
+def bp_winners(
+    cost: np.ndarray,
+    guide: np.ndarray,
+    *,
+    min_disparity: int = 0,
+    strip_rows: int = 16,
+    **options,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The ``bp`` method's winner-takes-all levels of both views, without its volume:
+    each strip of :func:`bp_strips` gives its rows' winners at once.
+
+    Parameters
+    ----------
+    cost, guide, strip_rows, **options
+        As for :func:`bp_strips`.
+    min_disparity : int
+        Disparity of level 0, for the right view's diagonals.
+
+    Returns
+    -------
+    left, right : ndarray of float32, shape (H, W)
+        ``winner_takes_all`` of the :func:`bp_volume` volume in the left view and, along
+        its diagonals, in the right view.
+    """
+    rows, cols = cost.shape[:2]
+    left_levels = np.empty((rows, cols), np.float32)
+    right_levels = np.empty((rows, cols), np.float32)
+    for y0, beliefs in bp_strips(cost, guide, strip_rows=strip_rows, **options):
+        y1 = y0 + beliefs.shape[0]
         left_levels[y0:y1] = winner_takes_all(beliefs)
         right_levels[y0:y1] = winner_takes_all(
             beliefs, right_view=True, min_disparity=min_disparity

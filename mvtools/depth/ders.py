@@ -51,6 +51,7 @@ import numpy as np
 from numba import njit, prange
 
 from mvtools.depth import METHODS
+from mvtools.depth.bp import bp_strips
 from mvtools.depth.local import soft_segment_aggregate
 from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
@@ -70,6 +71,9 @@ __all__ = ["TEMPORAL_BLOCK", "DersEstimator", "Neighbour"]
 
 #: Block size (pixels) of TemporalEnhancement's static test.
 TEMPORAL_BLOCK = 8
+
+#: Methods whose volume comes a strip of rows at a time, never whole.
+_STRIPS = {"sgm": sgm_strips, "bp": bp_strips}
 
 #: SmoothingCoefficient at which the methods run with their own tuning (DERS's default).
 _NEUTRAL_SMOOTHING = 4.0
@@ -279,8 +283,8 @@ class DersEstimator:
             scale = _NEUTRAL_SMOOTHING / params.smoothing_coefficient
             # at the neutral smoothing no scaled copy of the volume is made
             scaled = cost * np.float32(scale) if scale != 1 else cost
-            if self.method == "sgm":
-                level, own = _sgm_winners(scaled, center, shifts)
+            if self.method in _STRIPS:
+                level, own = _streamed_winners(_STRIPS[self.method](scaled, center), shifts)
             else:
                 # the method may write into the costs unless the segment planes read them
                 volume = METHODS[self.method](
@@ -389,19 +393,17 @@ def _winners(volume: np.ndarray, shifts: list[np.ndarray]) -> tuple[np.ndarray, 
     return winner_takes_all(volume), [_neighbour_levels(volume, shift) for shift in shifts]
 
 
-def _sgm_winners(cost: np.ndarray, guide: np.ndarray, shifts: list[np.ndarray]):
-    """:func:`_winners` of the ``sgm`` volume, taken a strip of rows at a time
-    (:func:`mvtools.depth.sgm.sgm_strips`) so that the volume is never whole: each
-    neighbour's pixel picks among center pixels of its own row."""
-    rows, cols = cost.shape[:2]
-    level = np.empty((rows, cols), np.float32)
-    own = [np.empty((rows, cols), np.int64) for _ in shifts]
-    for y0, strip in sgm_strips(cost, guide):
-        height = strip.shape[0]
-        level[y0 : y0 + height] = winner_takes_all(strip)
+def _streamed_winners(strips, shifts: list[np.ndarray]):
+    """:func:`_winners` of a method's volume given a strip of rows at a time
+    (:func:`mvtools.depth.sgm.sgm_strips`, :func:`mvtools.depth.bp.bp_strips`), so that
+    the volume is never whole: each neighbour's pixel picks among center pixels of its
+    own row."""
+    level, own = [], [[] for _ in shifts]
+    for _, strip in strips:
+        level.append(winner_takes_all(strip))
         for levels, shift in zip(own, shifts):
-            levels[y0 : y0 + height] = _neighbour_levels(strip, shift)
-    return level, own
+            levels.append(_neighbour_levels(strip, shift))
+    return np.concatenate(level), [np.concatenate(levels) for levels in own]
 
 
 def _confirmed_by_a_neighbour(
