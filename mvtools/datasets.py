@@ -43,6 +43,7 @@ __all__ = [
     "opencv_sgbm_reference",
     "score_middlebury",
     "write_cones_case",
+    "write_hall_ders_case",
     "write_middlebury_ders_case",
 ]
 
@@ -543,3 +544,63 @@ def ders_case_disparity(depth_video: str | os.PathLike) -> np.ndarray:
     z = DepthCoding(sidecar.depth_range, fmt.bits).z(values)
     with np.errstate(divide="ignore"):
         return (DERS_CASE_FOCAL * DERS_CASE_BASELINE / z).astype(np.float32)
+
+
+#: Poznan Hall 2's depth range as its VSRS configurations give it (negative: the scene
+#: lies at negative z of its cameras, which VSRS and DERS accept).
+HALL_DEPTH_RANGE = (-23.394160, -172.531931)
+
+
+def write_hall_ders_case(
+    hall: str | os.PathLike, folder: str | os.PathLike, *, planes: int = 128, **settings
+) -> Path:
+    """Write a DERS run for the depth of Poznan Hall 2's camera 5 from camera 7 (the two
+    cameras the published frame has): the sequence's camera file and depth range, the
+    range searched in ``planes`` steps, the output coded with that range (8-bit, as the
+    shipped depth maps), ``estimated_D_cam05_1920x1088_yuv420p.yuv`` in ``folder``.
+
+    Parameters
+    ----------
+    hall : path-like
+        The ``mpeg/poznan_hall2`` data folder.
+    folder : path-like
+        Existing folder.
+    planes : int
+        NumberOfDepthSteps.
+    **settings
+        :class:`mvtools.params.DersParams` fields overriding the case's.
+
+    Returns
+    -------
+    Path
+        The configuration file, ``depth_cam5.cfg``.
+    """
+    from mvtools.params import DersParams
+
+    hall = Path(hall).resolve()
+    nearest, farthest = HALL_DEPTH_RANGE
+    params = DersParams(
+        **{
+            "source_width": 1920,
+            "source_height": 1088,
+            "total_number_of_frames": 1,
+            "left_camera_name": "",
+            "center_camera_name": "param_cam5",
+            "right_camera_name": "param_cam7",
+            "file_left_view_image": "",
+            "file_center_view_image": str(hall / "hall_I_cam05.yuv"),
+            "file_right_view_image": str(hall / "hall_I_cam07.yuv"),
+            "file_output_depth_map_image": "estimated_D_cam05_1920x1088_yuv420p.yuv",
+            "file_camera_parameter": str(hall / "config" / "VSRS" / "cam_param_poznanhall2.cfg"),
+            "nearest_depth_value": nearest,
+            "farthest_depth_value": farthest,
+            "nearest_search_depth_value": nearest,
+            "farthest_search_depth_value": farthest,
+            "number_of_depth_steps": planes,
+            "match_direction": 2,
+            **settings,
+        }
+    )
+    config = Path(folder) / "depth_cam5.cfg"
+    write_config(config, params)
+    return config
