@@ -25,20 +25,7 @@ PATHS_8 = ((0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (1, -1), (-1, 1), (-1, -1))
 def _path_step(cost, total, y, x, previous, p, current, c, p1, p2):
     # L(x, d) = C(x, d) + min(L(x-r, d), L(x-r, d+-1) + P1, min L(x-r) + P2) - min L(x-r),
     # with L(x-r) = previous[p] and the result written to current[c] and added to total.
-    levels = cost.shape[2]
-    best_previous = previous[p, 0]
-    for k in range(1, levels):
-        best_previous = min(best_previous, previous[p, k])
-    jump = best_previous + p2
-    for k in range(levels):
-        value = min(previous[p, k], jump)
-        if k > 0:
-            value = min(value, previous[p, k - 1] + p1)
-        if k < levels - 1:
-            value = min(value, previous[p, k + 1] + p1)
-        value += cost[y, x, k] - best_previous
-        current[c, k] = value
-        total[y, x, k] += value
+    _strip_step(cost, total, y, y, x, previous, p, current, c, p1, p2, True)
 
 
 @njit(cache=True, nogil=True, inline="always")
