@@ -25,14 +25,13 @@ from mvtools.cli.progress import Progress
 from mvtools.errors import UsageError
 from mvtools.io.pose_trace import POSE_TRACE_CONVENTIONS
 from mvtools.params import VsrsParams
+from mvtools.run.navigate import STREAM_LAYOUTS
 from mvtools.synthesis.views import DEFAULT_HOLE_FILLING, FILTERS, HOLE_FILLING, PRECISIONS
 
 LOG = logging.getLogger(__name__)
 
 #: The interpupillary distance of ``--stereo`` without a value, in metres.
 DEFAULT_IPD = 0.065
-
-_STREAM_LAYOUTS = ("side-by-side", "top-bottom", "grid")
 
 
 @click.command(name="navigate", cls=ProgramCommand)
@@ -99,7 +98,7 @@ _STREAM_LAYOUTS = ("side-by-side", "top-bottom", "grid")
 )
 @click.option(
     "--layout",
-    type=click.Choice(_STREAM_LAYOUTS),
+    type=click.Choice(STREAM_LAYOUTS),
     default=None,
     help="Pack the output streams (two eyes, dense views) into one video; without it "
     "each stream gets its own file, -o holding %s for the stream's name.",
@@ -202,7 +201,12 @@ def command(cameras, views, depths, depth_range, output, transposed_rotation, **
     cameras still views. --stereo renders both eyes at each pose, --ipd apart.
     """
     from mvtools.io.camera_files import read_camera_file
-    from mvtools.run.navigate import NavigationOptions, navigate_files, output_streams
+    from mvtools.run.navigate import (
+        NavigationOptions,
+        frames_after,
+        navigate_files,
+        output_streams,
+    )
     from mvtools.run.synthesize import facing_references, synthesis_options
 
     all_cameras = read_camera_file(cameras, transposed_rotation=transposed_rotation)
@@ -214,7 +218,11 @@ def command(cameras, views, depths, depth_range, output, transposed_rotation, **
         raise UsageError(f"must be positive, got {options['ipd']:g}", key="--ipd")
     dense_frames = None
     if options["dense"]:
-        dense_frames = 1 if options["static"] else _input_length(references, options)
+        dense_frames = (
+            1
+            if options["static"]
+            else frames_after(references, options["start_frame"], size=options["size"])
+        )
     names, streams = output_streams(poses, stereo=stereo, dense_frames=dense_frames)
     frame_count = len(streams[0])
     start = options["start_frame"]
@@ -314,23 +322,6 @@ def _poses(all_cameras, references, cameras_path, options):
     if options["frames"] < 2 and len(keyframes) > 1:
         raise UsageError("a path through several keyframes needs at least 2", key="--frames")
     return camera_path(keyframes, options["frames"], extend=options["extend"])
-
-
-def _input_length(references, options) -> int:
-    """Frames of the shortest input video past --start-frame (dense views of video)."""
-    from mvtools.io.inputs import open_input_video
-
-    lengths = []
-    for ref in references:
-        for path in (ref.texture, ref.depth):
-            with open_input_video(path, options["size"], None) as video:
-                lengths.append(len(video))
-    available = min(lengths) - options["start_frame"]
-    if available < 1:
-        raise UsageError(
-            f"is past the end of the shortest input ({min(lengths)} frames)", key="--start-frame"
-        )
-    return available
 
 
 def _outputs(output: str, names: list[str], layout: str | None) -> list[str]:

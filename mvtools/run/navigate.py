@@ -33,6 +33,7 @@ LOG = logging.getLogger(__name__)
 __all__ = [
     "STREAM_LAYOUTS",
     "NavigationOptions",
+    "frames_after",
     "navigate_files",
     "navigate_video",
     "output_streams",
@@ -208,6 +209,29 @@ def navigate_video(
         options.synthesis.precision,
     )
     stream_frames(range(frame_count), render, writers=list(outputs), progress=progress)
+
+
+def frames_after(
+    references: Sequence[ReferenceFiles], start: int, *, size: tuple[int, int] | None = None
+) -> int:
+    """Frames of the shortest of the reference videos from frame ``start`` on (the output
+    frames of dense views of video).
+
+    Raises
+    ------
+    UsageError
+        ``start`` is past the end of the shortest video (``--start-frame``).
+    """
+    lengths = []
+    for ref in references:
+        for path in (ref.texture, ref.depth):
+            with open_input_video(path, size, None) as video:
+                lengths.append(len(video))
+    if min(lengths) <= start:
+        raise UsageError(
+            f"is past the end of the shortest input ({min(lengths)} frames)", key="--start-frame"
+        )
+    return min(lengths) - start
 
 
 def navigate_files(
