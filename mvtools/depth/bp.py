@@ -14,6 +14,15 @@ from mvtools.depth.sgm import winner_takes_all
 
 __all__ = ["belief_propagation", "bp_strips", "bp_volume", "bp_winners"]
 
+#: The ``bp`` method's tuning, shared by :func:`bp_volume` and :func:`bp_strips` (see
+#: :func:`bp_volume`).
+SMOOTHING = 16.0
+SMOOTHING2 = 0.3
+TRUNCATION = 4.0
+COLOUR_SCALE = 10.0
+SCALES = 5
+ITERATIONS = 5
+
 # Incoming-message slots: the message a pixel received from its neighbour above,
 # below, on the left and on the right.
 _FROM_UP, _FROM_DOWN, _FROM_LEFT, _FROM_RIGHT = 0, 1, 2, 3
@@ -147,8 +156,8 @@ def belief_propagation(
     down: np.ndarray,
     *,
     truncation: float,
-    scales: int = 5,
-    iterations: int = 5,
+    scales: int = SCALES,
+    iterations: int = ITERATIONS,
     overwrite: bool = False,
 ) -> np.ndarray:
     """Beliefs of hierarchical min-sum belief propagation.
@@ -231,12 +240,12 @@ def bp_volume(
     cost: np.ndarray,
     guide: np.ndarray,
     *,
-    smoothing: float = 16.0,
-    smoothing2: float = 0.3,
-    truncation: float = 4.0,
-    colour_scale: float = 10.0,
-    scales: int = 5,
-    iterations: int = 5,
+    smoothing: float = SMOOTHING,
+    smoothing2: float = SMOOTHING2,
+    truncation: float = TRUNCATION,
+    colour_scale: float = COLOUR_SCALE,
+    scales: int = SCALES,
+    iterations: int = ITERATIONS,
     overwrite: bool = False,
 ) -> np.ndarray:
     """The ``bp`` method: hierarchical belief propagation's beliefs.
@@ -279,12 +288,12 @@ def bp_strips(
     cost: np.ndarray,
     guide: np.ndarray,
     *,
-    smoothing: float = 16.0,
-    smoothing2: float = 0.3,
-    truncation: float = 4.0,
-    colour_scale: float = 10.0,
-    scales: int = 5,
-    iterations: int = 5,
+    smoothing: float = SMOOTHING,
+    smoothing2: float = SMOOTHING2,
+    truncation: float = TRUNCATION,
+    colour_scale: float = COLOUR_SCALE,
+    scales: int = SCALES,
+    iterations: int = ITERATIONS,
     strip_rows: int = 16,
 ):
     """The ``bp`` method's volume (its beliefs) a strip of rows at a time, top to bottom.

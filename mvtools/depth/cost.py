@@ -257,16 +257,25 @@ def check_pair(
     return left, right
 
 
+#: AD-census's settings, shared by the rectified pair's costs and the plane sweep
+#: (:func:`ad_census_cost`): the census window (height, width), the Hamming distance and
+#: colour difference at which each term reaches 1 - 1/e, the cost where nothing matches.
+CENSUS_WINDOW = (7, 9)
+LAMBDA_CENSUS = 30.0
+LAMBDA_COLOUR = 20.0
+OUTSIDE_COST = 0.7
+
+
 def ad_census_cost(
     left: np.ndarray,
     right: np.ndarray,
     *,
     min_disparity: int,
     levels: int,
-    census_window: tuple[int, int] = (7, 9),
-    lambda_census: float = 30.0,
-    lambda_colour: float = 20.0,
-    outside_cost: float = 0.7,
+    census_window: tuple[int, int] = CENSUS_WINDOW,
+    lambda_census: float = LAMBDA_CENSUS,
+    lambda_colour: float = LAMBDA_COLOUR,
+    outside_cost: float = OUTSIDE_COST,
 ) -> np.ndarray:
     """AD-census matching cost volume of the left view (Mei et al. 2011).
 
@@ -326,10 +335,10 @@ def ad_census_levels(
     *,
     min_disparity: int,
     levels: int,
-    census_window: tuple[int, int] = (7, 9),
-    lambda_census: float = 30.0,
-    lambda_colour: float = 20.0,
-    outside_cost: float = 0.7,
+    census_window: tuple[int, int] = CENSUS_WINDOW,
+    lambda_census: float = LAMBDA_CENSUS,
+    lambda_colour: float = LAMBDA_COLOUR,
+    outside_cost: float = OUTSIDE_COST,
 ) -> Callable[[int], np.ndarray]:
     """The levels of :func:`ad_census_cost` one at a time, without the volume.
 

@@ -16,6 +16,14 @@ from numba import njit, prange
 
 __all__ = ["alpha_expansion", "graphcut_labels", "graphcut_volume", "smoothness_weights"]
 
+#: The ``graphcut`` method's tuning, shared by :func:`graphcut_volume` and
+#: :func:`graphcut_labels` (see :func:`graphcut_volume`).
+SMOOTHING = 16.0
+SMOOTHING2 = 1.0
+TRUNCATION = 4
+COLOUR_SCALE = 10.0
+CYCLES = 2
+
 
 def smoothness_weights(
     cost: np.ndarray, guide: np.ndarray, *, smoothing: float, smoothing2: float, colour_scale: float
@@ -231,11 +239,11 @@ def graphcut_labels(
     levels: int,
     guide: np.ndarray,
     *,
-    smoothing: float = 16.0,
-    smoothing2: float = 1.0,
-    truncation: int = 4,
-    colour_scale: float = 10.0,
-    cycles: int = 2,
+    smoothing: float = SMOOTHING,
+    smoothing2: float = SMOOTHING2,
+    truncation: int = TRUNCATION,
+    colour_scale: float = COLOUR_SCALE,
+    cycles: int = CYCLES,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The expansion of :func:`graphcut_volume` from the costs of one level at a time.
 
@@ -341,11 +349,11 @@ def graphcut_volume(
     cost: np.ndarray,
     guide: np.ndarray,
     *,
-    smoothing: float = 16.0,
-    smoothing2: float = 1.0,
-    truncation: int = 4,
-    colour_scale: float = 10.0,
-    cycles: int = 2,
+    smoothing: float = SMOOTHING,
+    smoothing2: float = SMOOTHING2,
+    truncation: int = TRUNCATION,
+    colour_scale: float = COLOUR_SCALE,
+    cycles: int = CYCLES,
     overwrite: bool = False,
 ) -> np.ndarray:
     """The ``graphcut`` method: DERS's alpha-expansion, returned as label energies.

@@ -21,7 +21,14 @@ import cv2
 import numpy as np
 from numba import njit, prange
 
-from mvtools.depth.cost import census_transform, popcount
+from mvtools.depth.cost import (
+    CENSUS_WINDOW,
+    LAMBDA_CENSUS,
+    LAMBDA_COLOUR,
+    OUTSIDE_COST,
+    census_transform,
+    popcount,
+)
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.homography import plane_homography
 
@@ -118,10 +125,10 @@ def plane_sweep_cost(
     precision: tuple[int, int] = (4, 1),
     filter: str = "cubic",
     block: int = 1,
-    census_window: tuple[int, int] = (7, 9),
-    lambda_census: float = 30.0,
-    lambda_colour: float = 20.0,
-    outside_cost: float = 0.7,
+    census_window: tuple[int, int] = CENSUS_WINDOW,
+    lambda_census: float = LAMBDA_CENSUS,
+    lambda_colour: float = LAMBDA_COLOUR,
+    outside_cost: float = OUTSIDE_COST,
 ) -> PlaneSweep:
     """AD-census plane-sweep cost volume of ``center`` against its neighbours.
 
