@@ -32,10 +32,10 @@ import numpy as np
 from common import DATA, report
 
 from mvtools.datasets import (
-    ders_case_disparity,
     load_middlebury_ground_truth,
     middlebury_pair,
     opencv_sgbm_reference,
+    score_ders_case,
     score_middlebury,
     write_hall_ders_case,
     write_middlebury_ders_case,
@@ -70,8 +70,8 @@ def ders_bad(case: str, method: str | None) -> tuple[float, float]:
         start = time.perf_counter()
         written = estimate_depth_config(config, data_dirs=[folder], output=Path(folder) / output)
         seconds = time.perf_counter() - start
-        disparity = ders_case_disparity(written["depth"])
-    return score_middlebury(disparity, load_middlebury_ground_truth(ROOT, name), name), seconds
+        bad = score_ders_case(written["depth"], ROOT, name)
+    return bad, seconds
 
 
 def hd_rows(folder: Path) -> list:

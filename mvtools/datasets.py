@@ -41,6 +41,7 @@ __all__ = [
     "middlebury_pair",
     "nonoccluded_pixels",
     "opencv_sgbm_reference",
+    "score_ders_case",
     "score_middlebury",
     "write_cones_case",
     "write_hall_ders_case",
@@ -390,7 +391,11 @@ def score_middlebury(
     """Bad-``threshold`` percentage of a left-view disparity map over the set's scored
     region (:data:`SCORED_REGION`, non-occluded pixels by default)."""
     score = score_disparity(
-        disparity, truth.disparity, known=truth.known, nonoccluded=truth.nonoccluded
+        disparity,
+        truth.disparity,
+        known=truth.known,
+        nonoccluded=truth.nonoccluded,
+        thresholds=(threshold,),
     )
     region = SCORED_REGION.get(name, "nonocc")
     return (score.bad_all if region == "all" else score.bad_nonocc)[threshold]
@@ -529,11 +534,17 @@ def write_middlebury_ders_case(
     return config
 
 
-def ders_case_disparity(depth_video: str | os.PathLike) -> np.ndarray:
+def ders_case_disparity(depth_video: str | os.PathLike) -> tuple[np.ndarray, float]:
     """The center view's disparity (pixels, towards the right neighbour) from the depth
     video of a :func:`write_middlebury_ders_case` run: its first frame's values through
     the Znear/Zfar of its sidecar (``OUTPUT.json``) to ``z``, then ``d = f B / z``
-    (0 at infinity)."""
+    (0 at infinity); and the disparity of one step of the coding.
+
+    The coding rounds a disparity by up to half a step (0.0006 px for 80 disparities at
+    16 bits), so an error of exactly 1 px, the bad 1.0 threshold, would count or not by
+    the coding's rounding: scores of a case take ``1 + step / 2`` as the threshold
+    (:func:`score_ders_case`).
+    """
     from mvtools.geometry.depth import DepthCoding
     from mvtools.io.depth_sidecar import depth_sidecar_path, read_depth_sidecar
     from mvtools.io.yuv import format_from_name, read_frame
@@ -541,9 +552,21 @@ def ders_case_disparity(depth_video: str | os.PathLike) -> np.ndarray:
     sidecar = read_depth_sidecar(depth_sidecar_path(depth_video))
     fmt = format_from_name(depth_video)
     values = read_frame(depth_video, fmt)[0]
-    z = DepthCoding(sidecar.depth_range, fmt.bits).z(values)
+    coding = DepthCoding(sidecar.depth_range, fmt.bits)
+    focal_baseline = DERS_CASE_FOCAL * DERS_CASE_BASELINE
     with np.errstate(divide="ignore"):
-        return (DERS_CASE_FOCAL * DERS_CASE_BASELINE / z).astype(np.float32)
+        disparity = (focal_baseline / coding.z(values)).astype(np.float32)
+        near, far = (focal_baseline / z for z in coding.z(np.array([(1 << fmt.bits) - 1, 0])))
+    return disparity, float(near - far) / ((1 << fmt.bits) - 1)
+
+
+def score_ders_case(depth_video: str | os.PathLike, root: str | os.PathLike, name: str) -> float:
+    """Bad 1.0 (%) of a :func:`write_middlebury_ders_case` run of set ``name``: its
+    disparity (:func:`ders_case_disparity`) against the published ground truth over the
+    set's scored region, the threshold widened by half a step of the depth coding."""
+    disparity, step = ders_case_disparity(depth_video)
+    truth = load_middlebury_ground_truth(root, name)
+    return score_middlebury(disparity, truth, name, threshold=1.0 + step / 2)
 
 
 #: Poznan Hall 2's depth range as its VSRS configurations give it (negative: the scene

@@ -270,19 +270,23 @@ def test_four_arc_views_fit_the_true_depth_better_than_two(tmp_path):
         "v4_texture_256x192_yuv420p.yuv",
     )
     within = [(np.abs(inverse - truth) / step <= 1).mean() for inverse in (two, four)]
-    # Measured: 0.931 of the pixels within one plane from cam1 and cam3, 0.937 with cam0
+    # Measured: 0.940 of the pixels within one plane from cam1 and cam3, 0.943 with cam0
     # and cam4 too (sgm): the outer views see parts of the scene the inner ones do not.
     assert within[1] > within[0] > 0.9
 
 
-def test_image_segmentation_fits_the_true_depth_better(tmp_path):
+def test_the_refinement_fits_the_true_depth_and_image_segmentation_keeps_it(tmp_path):
     step = (1 / ZNEAR - 1 / ZFAR) / 63
     truth = true_inverse_depth("arc")
     _, plain = _arc_estimate(tmp_path, "plain")
-    _, planes = _arc_estimate(tmp_path, "planes", "ImageSegmentation=1")
-    within = [(np.abs(inverse - truth) / step <= 1).mean() for inverse in (plain, planes)]
-    # Measured: 0.931 of the pixels within one plane without, 0.951 with segment planes
-    assert within[1] > within[0] + 0.01
+    _, filled = _arc_estimate(tmp_path, "filled", "ImageSegmentation=1")
+    within = [(np.abs(inverse - truth) / step <= 1).mean() for inverse in (plain, filled)]
+    # Measured: 0.940 of the pixels within one plane with the stereo-pair mode's refinement
+    # (segment planes on the levels of the search grid), 0.931 with the sub-level winners
+    # and no planes it replaced; ImageSegmentation 1 (rejected pixels filled from their
+    # segment's plane) 0.940 too
+    assert within[0] >= 0.935
+    assert within[1] >= within[0] - 0.002
 
 
 def _fetch_error(z, cameras, views, mask=None):

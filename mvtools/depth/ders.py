@@ -56,12 +56,7 @@ from mvtools.depth.local import soft_segment_aggregate
 from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
 from mvtools.depth.planesweep import plane_sweep_cost, sweep_homographies
-from mvtools.depth.refine import (
-    fill_from_background,
-    median_smooth,
-    near_depth_edges,
-    weighted_median,
-)
+from mvtools.depth.refine import fill_invalid
 from mvtools.depth.sgm import sgm_strips, winner_takes_all
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import depth_sign, ders_depth_range, facing_camera
@@ -119,6 +114,10 @@ class DersEstimator:
         NearestDepthValue and FarthestDepthValue, or the z of the disparity range's
         ends (Zfar may be inf); :class:`mvtools.geometry.depth.DepthCoding` of it
         writes :meth:`frame`'s depths.
+    pixels_per_level : float
+        Pixels that one level moves a point in the left or right neighbour (the larger
+        mean over the levels): the refinement's unit, as a pixel of disparity is the stereo-pair
+        mode's.
 
     Raises
     ------
@@ -162,6 +161,9 @@ class DersEstimator:
         self.inverse_depths = self._search_planes()
         self.depth_range = self._output_range()
         self._shifts = _rectified_shifts(self.center, self.neighbours, self.inverse_depths, params)
+        self.pixels_per_level = _pixels_per_level(
+            self.center, self.neighbours, self.inverse_depths, params.depth_type
+        )
         self._previous: tuple[np.ndarray, np.ndarray] | None = None
 
     # ------------------------------------------------------------------ planes and ranges
@@ -286,23 +288,21 @@ class DersEstimator:
             if self.method in _STRIPS:
                 level, own = _streamed_winners(_STRIPS[self.method](scaled, center), shifts)
             else:
-                # the method may write into the costs unless the segment planes read them
-                volume = METHODS[self.method](
-                    scaled, center, overwrite=scale != 1 or not params.image_segmentation
-                )
+                # the method may write into a scaled copy; the segment planes read the costs
+                volume = METHODS[self.method](scaled, center, overwrite=scale != 1)
                 level, own = _winners(volume, shifts)
                 del volume
         else:
             level, own = _winners(cost, shifts)
         levels = self.inverse_depths.size
+        # the levels of the search grid, as the stereo-pair mode keeps integer disparities:
+        # a parabola through a method's costs is no sub-pixel measurement
         chosen = np.clip(np.rint(level).astype(np.intp), 0, levels - 1)
         seen = sweep.seen_at(chosen)
         del sweep
         if shifts:
             seen &= _confirmed_by_a_neighbour(chosen, own, shifts)
-        if params.image_segmentation:
-            level = self._segment_planes(level, seen, cost, center)
-        level = self._clean(level, seen, center)
+        level = self._refine(chosen, seen, cost, center)
         inverse = np.interp(level, np.arange(levels), self.inverse_depths)
         with np.errstate(divide="ignore"):
             z = 1.0 / inverse
@@ -327,26 +327,30 @@ class DersEstimator:
         period = self.params.temporal_refresh_period
         return index - index % period if period else 0
 
-    def _segment_planes(
-        self, level: np.ndarray, seen: np.ndarray, cost: np.ndarray, center: np.ndarray
+    def _refine(
+        self, chosen: np.ndarray, seen: np.ndarray, cost: np.ndarray, center: np.ndarray
     ) -> np.ndarray:
-        """ImageSegmentation 1: colour segments of the center view whose robust plane of
-        levels (planes in 1/z, hence in disparity for parallel cameras) costs about as much
-        as their levels take it, and fattened foreground next to depth steps falls back
-        onto its segment's plane, as in the stereo-pair mode."""
+        """The stereo-pair mode's refinement of the chosen levels, in pixels of motion in
+        the neighbours (:attr:`pixels_per_level`): colour segments whose robust plane
+        costs about as much as their levels take it, fattened foreground next to depth
+        steps falls back onto its segment's plane, then the levels are put back on the
+        search grid and :func:`mvtools.depth.refine.fill_invalid` fills the pixels that no
+        neighbour sees or confirms from the background side (from their segment's plane
+        first with ImageSegmentation 1) and smooths depth edges. Returns levels."""
+        step = self.pixels_per_level
         segments = plane_segments(center)
-        level, valid = select_segment_planes(level, seen, segments, cost, center)
-        return trim_fattening(level, valid, segments, cost, center)
-
-    def _clean(self, level: np.ndarray, seen: np.ndarray, center: np.ndarray) -> np.ndarray:
-        """Levels of the pixels no neighbour sees from the background side, then a
-        colour-weighted median where levels were filled or jump (matchers err there)."""
-        filled = fill_from_background(level, seen)
+        disparity = chosen.astype(np.float32) * np.float32(step)
+        disparity, valid = select_segment_planes(disparity, seen, segments, cost, center, step=step)
+        disparity = trim_fattening(disparity, valid, segments, cost, center, step=step)
+        disparity = np.rint(disparity / step) * np.float32(step)
+        disparity = fill_invalid(
+            disparity,
+            valid,
+            center,
+            segments=segments if self.params.image_segmentation else None,
+        )
         # A row that no neighbour sees at all has no background to take: farthest plane.
-        filled = np.where(np.isnan(filled), 0.0, filled).astype(np.float32)
-        doubtful = ~seen | near_depth_edges(filled)
-        snapped = weighted_median(filled, center, where=doubtful)
-        return median_smooth(snapped, size=3)
+        return np.where(np.isnan(disparity), 0.0, disparity / step)
 
     def _temporal(self, z: np.ndarray, center: np.ndarray) -> np.ndarray:
         luma = center.mean(axis=2)
@@ -362,6 +366,30 @@ class DersEstimator:
         kept = np.where(static, previous[1], z)
         self._previous = (luma, kept)
         return kept
+
+
+def _pixels_per_level(
+    center: Camera, neighbours: Sequence[Neighbour], inverse_depths: np.ndarray, depth_type: int
+) -> float:
+    """How far, in pixels, one level of the search moves the center's principal point in
+    the left or right neighbour it moves most (any neighbour when neither is named), on
+    average over the levels: the unit in which the refinement's tolerances (a pixel of
+    disparity in the stereo-pair mode) are stated. Further views only add their costs,
+    as they do not define DERS's disparities either."""
+    middle = np.array([center.cx, center.cy, 1.0])
+    largest = 0.0
+    sided = [neighbour for neighbour in neighbours if neighbour.side is not None]
+    for neighbour in sided or neighbours:
+        points = (
+            sweep_homographies(center, neighbour.camera, inverse_depths, depth_type=depth_type)
+            @ middle
+        )
+        with np.errstate(divide="ignore", invalid="ignore"):
+            positions = points[:, :2] / points[:, 2:]
+            travel = np.linalg.norm(np.diff(positions, axis=0), axis=1).sum()
+        if np.isfinite(travel):
+            largest = max(largest, travel / (len(inverse_depths) - 1))
+    return largest if largest > 0 else 1.0
 
 
 def _rectified_shifts(

@@ -69,22 +69,29 @@ def _window_costs(cost, guide, pixels, levels, radius, weight_table, outside):
 class _WindowCost:
     # Colour-weighted window means of a cost volume at fractional disparities, the
     # measure both plane tests compare.
-    def __init__(self, cost, guide, min_disparity, radius, sigma_colour):
+    def __init__(self, cost, guide, min_disparity, step, radius, sigma_colour):
         cost = np.ascontiguousarray(cost, np.float32)
         if cost.ndim != 3 or np.ndim(guide) not in (2, 3) or cost.shape[:2] != np.shape(guide)[:2]:
             raise ValueError(
                 f"cost must be an (H, W, D) volume over the guide's pixels, got "
                 f"{cost.shape} and {np.shape(guide)}"
             )
-        if radius < 0 or sigma_colour <= 0:
+        if radius < 0 or sigma_colour <= 0 or not step > 0:
             raise ValueError(
-                f"need radius >= 0 and sigma_colour > 0, got {radius} and {sigma_colour}"
+                f"need radius >= 0, sigma_colour > 0 and step > 0, got {radius}, "
+                f"{sigma_colour} and {step}"
             )
         self.colour = as_colour(guide)
         self.table = np.exp(-np.arange(3 * max(int(self.colour.max()), 0) + 1) / sigma_colour)
         self.cost, self.min_disparity, self.radius = cost, float(min_disparity), int(radius)
+        self.step = float(step)
         # beyond the searched range a disparity costs as much as the worst match
         self.outside = float(cost.max()) if cost.size else 0.0
+
+    def within_range(self, disparities):
+        # disparities on the costs' levels, not beyond the searched range
+        top = self.min_disparity + (self.cost.shape[2] - 1) * self.step
+        return (disparities >= self.min_disparity) & (disparities <= top)
 
     def __call__(self, pixels, disparities):
         # pixels: flat indices; disparities: one per pixel
@@ -92,7 +99,7 @@ class _WindowCost:
             self.cost,
             self.colour,
             np.asarray(pixels, np.int64),
-            np.asarray(disparities, np.float64) - self.min_disparity,
+            (np.asarray(disparities, np.float64) - self.min_disparity) / self.step,
             self.radius,
             self.table,
             self.outside,
@@ -106,7 +113,8 @@ def select_segment_planes(
     cost: np.ndarray,
     guide: np.ndarray,
     *,
-    min_disparity: int = 0,
+    min_disparity: float = 0,
+    step: float = 1.0,
     margin: float = 0.1,
     radius: int = 2,
     sigma_colour: float = 20.0,
@@ -135,12 +143,15 @@ def select_segment_planes(
     labels : ndarray of int, shape (H, W)
         Segments ``0 .. n - 1`` (:func:`mvtools.depth.oversegment.segment_image`).
     cost : ndarray, shape (H, W, D)
-        Matching costs of the disparities ``min_disparity .. min_disparity + D - 1``,
-        e.g. :func:`mvtools.depth.cost.ad_census_cost`.
+        Matching costs of the disparities ``min_disparity + k step``, ``k = 0 .. D - 1``,
+        e.g. :func:`mvtools.depth.cost.ad_census_cost` (``step`` 1) or a plane sweep's
+        levels (``step`` the pixels a level moves a point in the neighbour).
     guide : ndarray, shape (H, W, 3) or (H, W)
         The view, integer values (others are rounded).
-    min_disparity : keyword-only int
+    min_disparity : keyword-only float
         Disparity of the costs' level 0.
+    step : keyword-only float
+        Disparity from one level of the costs to the next, positive.
     margin : keyword-only float
         Accepted relative cost increase of the plane, at least 0.
     radius : keyword-only int
@@ -163,7 +174,7 @@ def select_segment_planes(
     labels = np.asarray(labels, np.int64)
     if margin < 0:
         raise ValueError(f"margin must be at least 0, got {margin}")
-    window_cost = _WindowCost(cost, guide, min_disparity, radius, sigma_colour)
+    window_cost = _WindowCost(cost, guide, min_disparity, step, radius, sigma_colour)
     if labels.shape != disparity.shape or window_cost.cost.shape[:2] != disparity.shape:
         raise ValueError(
             f"cost volume of shape {window_cost.cost.shape} and labels of shape "
@@ -180,10 +191,7 @@ def select_segment_planes(
     )
     own = np.bincount(segment_of, window_cost(pixels, disparity.ravel()[pixels]), minlength=count)
     chosen = trusted & (on_plane <= (1.0 + margin) * own)
-    levels = window_cost.cost.shape[2]
-    replace = (
-        chosen[labels] & (on_planes >= min_disparity) & (on_planes <= min_disparity + levels - 1)
-    )
+    replace = chosen[labels] & window_cost.within_range(on_planes)
     return np.where(replace, on_planes, disparity).astype(np.float32), valid | replace
 
 
@@ -194,7 +202,8 @@ def trim_fattening(
     cost: np.ndarray,
     guide: np.ndarray,
     *,
-    min_disparity: int = 0,
+    min_disparity: float = 0,
+    step: float = 1.0,
     margin: float = 1.0,
     reach: int = 2,
     jump: float = 1.0,
@@ -225,7 +234,7 @@ def trim_fattening(
         Reliable pixels, the only ones fitted and changed.
     labels : ndarray of int, shape (H, W)
         Segments ``0 .. n - 1`` (:func:`mvtools.depth.oversegment.segment_image`).
-    cost, guide, min_disparity, radius, sigma_colour
+    cost, guide, min_disparity, step, radius, sigma_colour
         Matching costs and their window means, see :func:`select_segment_planes`.
     margin : keyword-only float
         Accepted relative cost increase of the plane, at least 0.
@@ -245,14 +254,13 @@ def trim_fattening(
         raise ValueError(f"need reach >= 1, jump > 0, margin >= 0, got {reach}, {jump}, {margin}")
     disparity = np.asarray(disparity, np.float32)
     valid = np.asarray(valid, bool)
-    window_cost = _WindowCost(cost, guide, min_disparity, radius, sigma_colour)
+    window_cost = _WindowCost(cost, guide, min_disparity, step, radius, sigma_colour)
     planes, trusted = trusted_planes(disparity, valid, labels, min_support, min_inliers, tolerance)
     on_planes = plane_disparity(planes, labels)
     finite = np.ascontiguousarray(np.where(np.isfinite(disparity), disparity, 0.0), np.float32)
     row = np.ones((1, 3), np.uint8)
     step = cv2.dilate(finite, row) - cv2.erode(finite, row) > jump
     near = cv2.dilate(step.astype(np.uint8), np.ones((1, 2 * reach + 1), np.uint8)) > 0
-    levels = window_cost.cost.shape[2]
     with np.errstate(invalid="ignore"):
         candidates = np.flatnonzero(
             (
@@ -260,8 +268,7 @@ def trim_fattening(
                 & near
                 & valid
                 & (disparity > on_planes + jump)
-                & (on_planes >= min_disparity)
-                & (on_planes <= min_disparity + levels - 1)
+                & window_cost.within_range(on_planes)
             ).ravel()
         )
     plane_values = on_planes.ravel()[candidates]

@@ -13,6 +13,7 @@ from mvtools.depth.segment import fill_from_planes
 __all__ = [
     "clean_up",
     "fill_from_background",
+    "fill_invalid",
     "left_right_consistent",
     "median_smooth",
     "near_depth_edges",
@@ -31,11 +32,7 @@ def clean_up(
     median_size: int = 3,
     segments: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Left-right check, background fill of the rejected pixels, then a colour-weighted
-    median on them and around depth edges, where matchers err, and a plain median.
-    With ``segments``, rejected pixels of segments that a disparity plane explains
-    well take the plane's value before the background fill
-    (:func:`mvtools.depth.segment.fill_from_planes`).
+    """Left-right check, then :func:`fill_invalid` of the rejected pixels.
 
     Parameters
     ----------
@@ -43,18 +40,62 @@ def clean_up(
         Each view's disparities (``x_right = x_left - d``).
     left : ndarray, shape (H, W, 3) or (H, W)
         The left view, integer values.
+    median_radius, median_sigma, median_size, segments
+        See :func:`fill_invalid`.
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W)
+        NaN only on rows without any consistent pixel.
+    """
+    valid = left_right_consistent(disparity_left, disparity_right)
+    return fill_invalid(
+        disparity_left,
+        valid,
+        left,
+        median_radius=median_radius,
+        median_sigma=median_sigma,
+        median_size=median_size,
+        segments=segments,
+    )
+
+
+def fill_invalid(
+    disparity: np.ndarray,
+    valid: np.ndarray,
+    guide: np.ndarray,
+    *,
+    median_radius: int = 5,
+    median_sigma: float = 20.0,
+    median_size: int = 3,
+    segments: np.ndarray | None = None,
+) -> np.ndarray:
+    """Background fill of the invalid pixels, then a colour-weighted median on them and
+    around depth edges, where matchers err, and a plain median: the clean-up of both
+    depth modes. With ``segments``, invalid pixels of segments that a disparity plane
+    explains well take the plane's value before the background fill
+    (:func:`mvtools.depth.segment.fill_from_planes`).
+
+    Parameters
+    ----------
+    disparity : ndarray, shape (H, W)
+        Disparities in pixels (larger is nearer).
+    valid : ndarray of bool, shape (H, W)
+        Pixels to trust, e.g. left-right consistent.
+    guide : ndarray, shape (H, W, 3) or (H, W)
+        The view, integer values.
     median_radius : int
     median_sigma : float
         Window half size and colour scale of the weighted median.
     median_size : int
         Final plain median, 3 or 5.
     segments : ndarray of int, shape (H, W), optional
-        Over-segmentation of the left view (:func:`mvtools.depth.oversegment.segment_image`).
+        Over-segmentation of the view (:func:`mvtools.depth.oversegment.segment_image`).
 
     Returns
     -------
     ndarray of float32, shape (H, W)
-        NaN only on rows without any consistent pixel.
+        NaN only on rows without any valid pixel.
 
     Notes
     -----
@@ -62,13 +103,12 @@ def clean_up(
     6 instead of 5 gives bad 1.0 of 4.24, 1.64, 6.78, 2.84 % instead of 4.41, 1.82, 6.67,
     2.83 % (Tsukuba, Venus, Teddy, Cones) for about 15 % more time.
     """
-    valid = left_right_consistent(disparity_left, disparity_right)
     if segments is not None:
-        disparity_left, valid = fill_from_planes(disparity_left, valid, segments)
-    filled = fill_from_background(disparity_left, valid)
+        disparity, valid = fill_from_planes(disparity, valid, segments)
+    filled = fill_from_background(disparity, valid)
     doubtful = ~valid | near_depth_edges(filled)
     snapped = weighted_median(
-        filled, left, radius=median_radius, sigma_colour=median_sigma, where=doubtful
+        filled, guide, radius=median_radius, sigma_colour=median_sigma, where=doubtful
     )
     return median_smooth(snapped, size=median_size)
 
