@@ -48,14 +48,19 @@ def _send(total, excluded, weight, truncation, out):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _iterate(data, right, down, messages, truncation, iterations, row_offset):
+def _iterate(data, right, down, messages, truncation, iterations, row_offset, first, stop):
     # Checkerboard schedule: a pixel of one parity reads only its own slots, written
     # by the other parity in the previous half-sweep, and writes only into its
     # neighbours' slots, so every row runs in parallel. row_offset: the image row of
-    # row 0, when the arrays are a strip of rows, which keeps the parities.
+    # row 0, when the arrays are a band of rows, which keeps the parities.
+    # Half-sweep k updates only rows first - k .. stop - k - 1 (0 .. rows - 1 with
+    # first <= 0 and stop >= rows + iterations): a staircase whose rows above have had
+    # one half-sweep more than the rows below, which is all that a row's update needs
+    # (its neighbours' previous half-sweep, not yet their next one), so a level can be
+    # swept a band at a time, each row updated once per half-sweep (see _Level).
     rows, cols, levels = data.shape
     for iteration in range(iterations):
-        for y in prange(rows):
+        for y in prange(max(0, first - iteration), min(rows, stop - iteration)):
             total = np.empty(levels, np.float32)
             for x in range((y + row_offset + iteration) % 2, cols, 2):
                 for d in range(levels):
@@ -101,14 +106,13 @@ def _iterate(data, right, down, messages, truncation, iterations, row_offset):
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _finer_messages(coarse, rows, cols, row_offset, coarse_row_offset):
+def _finer_messages(coarse, fine, row_offset, coarse_row_offset):
     # each pixel starts from the messages its 2x2 block received, written straight into
     # the finer array (no repeated intermediate copies); the finer rows are those from
     # row_offset on, the coarse ones from coarse_row_offset on
-    fine = np.empty((coarse.shape[0], rows, cols, coarse.shape[3]), np.float32)
-    for y in prange(rows):
+    for y in prange(fine.shape[1]):
         for s in range(coarse.shape[0]):
-            for x in range(cols):
+            for x in range(fine.shape[2]):
                 fine[s, y, x, :] = coarse[s, (y + row_offset) // 2 - coarse_row_offset, x // 2, :]
     return fine
 
@@ -203,10 +207,12 @@ def belief_propagation(
     messages = (
         np.zeros((4,) + cost.shape, np.float32)
         if coarse is None
-        else _finer_messages(coarse, rows, cols, 0, 0)
+        else _finer_messages(coarse, np.empty((4,) + cost.shape, np.float32), 0, 0)
     )
     del coarse
-    _iterate(cost, right, down, messages, np.float32(truncation), iterations, 0)
+    _iterate(
+        cost, right, down, messages, np.float32(truncation), iterations, 0, 0, rows + iterations
+    )
     return _beliefs(cost, messages, cost if overwrite else np.empty_like(cost))
 
 
@@ -222,7 +228,7 @@ def _coarse_messages(cost, right, down, truncation, scales, iterations):
         if messages is None:
             messages = np.zeros((4,) + data.shape, np.float32)
         else:
-            messages = _finer_messages(messages, data.shape[0], data.shape[1], 0, 0)
+            messages = _finer_messages(messages, np.empty((4,) + data.shape, np.float32), 0, 0)
         _iterate(
             np.ascontiguousarray(data),
             np.ascontiguousarray(level_right),
@@ -231,6 +237,8 @@ def _coarse_messages(cost, right, down, truncation, scales, iterations):
             np.float32(truncation),
             iterations,
             0,
+            0,
+            data.shape[0] + iterations,
         )
         del data, level_right, level_down
     return messages
@@ -298,13 +306,13 @@ def bp_strips(
 ):
     """The ``bp`` method's volume (its beliefs) a strip of rows at a time, top to bottom.
 
-    The coarser levels run as in :func:`belief_propagation`; the finest one a strip of
-    rows at a time, each strip widened by ``iterations`` rows on either side: a
-    half-sweep carries a message one row on, so the widened rows' missing neighbours
-    reach no further than the widening, and the strip's messages and beliefs are those
-    of the whole frame, bit for bit. Beside the costs only the messages of the level
-    above (a quarter of the pixels, four slots: one volume) and a strip's are kept,
-    instead of four message volumes and the beliefs.
+    Every level is swept top to bottom a band of rows at a time, as far as the finest
+    strip asked for needs, each row updated once per half-sweep (a staircase of
+    half-sweeps, see :class:`_Level`), its messages started from the level above's as
+    soon as those are final: the strips' messages and beliefs are those of the whole
+    frame, bit for bit, for the work of one frame. Beside the costs only a few rows of
+    messages and of summed costs per level are kept, instead of four message volumes and
+    the beliefs.
 
     Parameters
     ----------
@@ -331,19 +339,22 @@ def bp_strips(
             f"truncation, scales and iterations must be at least 1, got "
             f"{truncation}, {scales}, {iterations}"
         )
-    # the pyramid's sizes and weights (small); its data costs come strip by strip
+    # the pyramid's sizes and weights (small); its data costs come band by band
     shapes = [(rows, cols)]
     weights = [(np.ascontiguousarray(right, np.float32), np.ascontiguousarray(down, np.float32))]
     while len(shapes) < scales and min(shapes[-1]) > 1:
         level_right, level_down = weights[-1]
         shapes.append((-(-shapes[-1][0] // 2), -(-shapes[-1][1] // 2)))
         weights.append((_pair_sum(level_right[:, 1::2], 0), _pair_sum(level_down[1::2], 1)))
-    strip = _Strips(cost, shapes, weights, np.float32(truncation), iterations)
+    data = _DataBands(cost, shapes)
+    finest = None
+    for level in reversed(range(len(shapes))):
+        finest = _Level(level, data, weights[level], finest, np.float32(truncation), iterations)
     for y0 in range(0, rows, strip_rows):
         y1 = min(rows, y0 + strip_rows)
         beliefs = _beliefs(
             cost[y0:y1],
-            strip.messages(0, y0, y1),
+            finest.final(y0, y1),
             np.empty((y1 - y0,) + cost.shape[1:], np.float32),
         )
         yield y0, beliefs
@@ -385,39 +396,84 @@ def bp_winners(
     return left_levels, right_levels
 
 
-class _Strips:
-    # Final messages of any pyramid level on a band of its rows, from the cost volume
-    # alone: the band widened by the iterations, started from the messages of the
-    # coarser level's band above it (computed the same way), its data costs summed
-    # from the cost rows under it. Each level's result is that of the whole frame.
-    def __init__(self, cost, shapes, weights, truncation, iterations):
-        self.cost, self.shapes, self.weights = cost, shapes, weights
-        self.truncation, self.iterations = truncation, iterations
+class _DataBands:
+    # The pyramid's data costs a band of rows at a time, each coarse row summed once from
+    # the finer level's rows as _coarser sums them. Two readers walk down each coarse
+    # level, its own sweep (_Level) and the summing of the level below it, each asking
+    # for rows no higher than it asked last; the rows above both are dropped.
+    def __init__(self, cost, shapes):
+        self.cost, self.shapes = cost, shapes
+        self.chunks = [[] for _ in shapes]  # (first row, rows) of each coarse level
+        self.reader_rows = [[0, 0] for _ in shapes]  # first row each reader still needs
+        self.reader_rows[-1][1] = shapes[-1][0]  # nothing sums the coarsest level
 
-    def data(self, level, r0, r1):
-        # pyramid data of a level's rows r0 .. r1 - 1, as _coarser sums them
+    def rows(self, level, r0, r1, reader):
+        # data of a level's rows r0 .. r1 - 1; reader 0: the level's sweep, 1: the
+        # summing of the level below
         if level == 0:
             return self.cost[r0:r1]
-        finer = self.data(level - 1, 2 * r0, min(2 * r1, self.shapes[level - 1][0]))
-        return _pair_sum(_pair_sum(finer, 0), 1)
+        chunks = self.chunks[level]
+        self.reader_rows[level][reader] = r0
+        keep = min(self.reader_rows[level])
+        while chunks and chunks[0][0] + chunks[0][1].shape[0] <= keep:
+            chunks.pop(0)
+        held = chunks[-1][0] + chunks[-1][1].shape[0] if chunks else 0
+        if r1 > held:
+            finer = self.rows(level - 1, 2 * held, min(2 * r1, self.shapes[level - 1][0]), reader=1)
+            chunks.append((held, _pair_sum(_pair_sum(finer, 0), 1)))
+        parts = [
+            band[max(0, r0 - first) : r1 - first]
+            for first, band in chunks
+            if first < r1 and first + band.shape[0] > r0
+        ]
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
-    def messages(self, level, a, b):
-        rows, cols = self.shapes[level]
-        e0, e1 = max(0, a - self.iterations), min(rows, b + self.iterations)
-        shape = (4, e1 - e0, cols, self.cost.shape[2])
-        if level == len(self.shapes) - 1:
-            messages = np.zeros(shape, np.float32)
-        else:
-            c0, c1 = e0 // 2, (e1 - 1) // 2 + 1
-            messages = _finer_messages(self.messages(level + 1, c0, c1), e1 - e0, cols, e0, c0)
-        right, down = self.weights[level]
-        _iterate(
-            np.ascontiguousarray(self.data(level, e0, e1)),
-            np.ascontiguousarray(right[e0:e1]),
-            np.ascontiguousarray(down[e0 : e1 - 1]),
-            messages,
-            self.truncation,
-            self.iterations,
-            e0,
-        )
-        return messages[:, a - e0 : b - e0]
+
+class _Level:
+    # Final messages of one pyramid level, a band of rows at a time top to bottom. After
+    # sweeping to front f, rows up to f have had all the half-sweeps, row f + j
+    # (0 < j < iterations) iterations - j of them and the rows below none: _iterate's
+    # staircase. Rows above f are then final (their neighbours are done too); moving the
+    # front on to b gives each row between the two staircases its missing half-sweeps,
+    # in order, once. The rows swept are kept from the first one asked for down to the
+    # first row still untouched, whose messages start, as each row's do, from the
+    # coarser level's final ones (zero at the coarsest level).
+    def __init__(self, level, data, weights, coarser, truncation, iterations):
+        self.level, self.data, self.coarser = level, data, coarser
+        self.right, self.down = weights
+        self.rows, self.cols = data.shapes[level]
+        self.truncation, self.iterations = truncation, iterations
+        self.front, self.start = -iterations, 0
+        self.messages = np.empty((4, 0, self.cols, data.cost.shape[2]), np.float32)
+
+    def final(self, a, b):
+        # the final messages of rows a .. b - 1, a and b no lower than in the last call
+        if b > self.front:
+            start = max(0, min(a, self.front))
+            end = min(self.rows, b + self.iterations + 1)
+            kept = self.start + self.messages.shape[1]
+            # the band moves down: its kept rows go up in place when its size stays (the
+            # finest level's strips), so that no second band is alive meanwhile
+            shape = (4, end - start) + self.messages.shape[2:]
+            messages = (
+                self.messages if self.messages.shape == shape else np.empty(shape, np.float32)
+            )
+            messages[:, : kept - start] = self.messages[:, start - self.start : kept - self.start]
+            if self.coarser is None:
+                messages[:, kept - start :] = 0
+            else:
+                c0, c1 = kept // 2, (end - 1) // 2 + 1
+                _finer_messages(self.coarser.final(c0, c1), messages[:, kept - start :], kept, c0)
+            _iterate(
+                np.ascontiguousarray(self.data.rows(self.level, start, end, reader=0)),
+                self.right[start:end],
+                self.down[start : end - 1],
+                messages,
+                self.truncation,
+                self.iterations,
+                start,
+                self.front + self.iterations - start,
+                b + self.iterations - start,
+            )
+            self.messages, self.start, self.front = messages, start, b
+        return self.messages[:, a - self.start : b - self.start]
