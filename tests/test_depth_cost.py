@@ -3,13 +3,20 @@ census-gradient cost, against values worked out by hand."""
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import pytest
 from shared_data import shared_data
 
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
-from mvtools.depth import METHODS, estimate_disparity
-from mvtools.depth.cost import census_gradient_cost, census_transform, support_weights
+from mvtools.depth import METHODS, cost, estimate_disparity
+from mvtools.depth.cost import (
+    as_colour,
+    census_gradient_cost,
+    census_gradient_levels,
+    census_transform,
+    support_weights,
+)
 
 # the neighbours of a 5x5 window with step 2, in the order of the census bits
 SPARSE_5X5 = [(-2, -2), (-2, 0), (-2, 2), (0, -2), (0, 2), (2, -2), (2, 0), (2, 2)]
@@ -117,3 +124,75 @@ def test_census_gradient_cost_meets_the_moebius_bar():
     shifted = right[:, np.clip(np.arange(left.shape[1])[:, None] - np.arange(80), 0, None)]
     raw = np.abs(left[:, :, None].astype(np.int16) - shifted).sum(axis=-1)
     assert score_middlebury(np.argmin(raw, axis=2).astype(np.float32), truth, "Moebius") > 20
+
+
+def _census_gradient_by_numpy(left, right, *, min_disparity, levels, window, step):
+    # The cost's formula from whole-view bits, weights and gradients, as the volume was
+    # computed before it made them a row at a time; float64 sums in another order, so
+    # equal to float32 rounding only.
+    colours = [as_colour(view) for view in (left, right)]
+    greys = [colour.mean(axis=2, dtype=np.float32) for colour in colours]
+    weights = [support_weights(colour, window=window, step=step) for colour in colours]
+    shifts = np.arange(weights[0].shape[2] - 1, -1, -1, dtype=np.uint64)
+    bits = [
+        (census_transform(grey, window=window, step=step)[:, :, None] >> shifts) & np.uint64(1)
+        for grey in greys
+    ]
+    gradients = [
+        np.stack(
+            [
+                cv2.Sobel(grey, cv2.CV_32F, dx, 1 - dx, ksize=3, borderType=cv2.BORDER_REPLICATE)
+                / 8
+                for dx in (1, 0)
+            ],
+            axis=2,
+        )
+        for grey in greys
+    ]
+    rows, cols = greys[0].shape
+    volume = np.full((rows, cols, levels), 0.8)
+    for k in range(levels):
+        for x in range(cols):
+            xr = x - (min_disparity + k)
+            if 0 <= xr < cols:
+                weight = weights[0][:, x].astype(np.float64) * weights[1][:, xr]
+                total = weight.sum(axis=1)
+                mismatch = (weight * (bits[0][:, x] ^ bits[1][:, xr])).sum(axis=1)
+                fraction = np.divide(mismatch, total, out=np.zeros(rows), where=total > 0)
+                gradient = np.abs(gradients[0][:, x] - gradients[1][:, xr]).sum(axis=1)
+                volume[:, x, k] = 2 - np.exp(-fraction / (30 / 63)) - np.exp(-gradient / 15)
+    return volume
+
+
+@pytest.mark.parametrize(("window", "step"), [((5, 5), 2), ((13, 13), 2), ((3, 5), 1)])
+@pytest.mark.parametrize("grey", [False, True])
+def test_census_gradient_volume_is_its_formula_on_whole_views(window, step, grey):
+    generator = np.random.default_rng(7)
+    texture = generator.integers(0, 256, (17, 27, 3), np.uint8)
+    left, right = np.ascontiguousarray(texture[:, :-3]), np.ascontiguousarray(texture[:, 3:])
+    if grey:
+        left, right = left.mean(axis=2), right.mean(axis=2)
+    volume = census_gradient_cost(
+        left, right, min_disparity=-2, levels=9, census_window=window, census_step=step
+    )
+    expected = _census_gradient_by_numpy(
+        left, right, min_disparity=-2, levels=9, window=window, step=step
+    )
+    np.testing.assert_allclose(volume, expected, rtol=1e-6, atol=1e-6)
+    # the true shift of 3 costs least where the windows see the same texture
+    assert (volume[4:-4, 8:-4].argmin(axis=2) == 5).all()
+
+
+def test_census_gradient_levels_are_the_volumes_in_any_order(monkeypatch):
+    # blocks of three levels: levels asked in order, backwards, and across blocks
+    monkeypatch.setattr(cost, "_LEVEL_BLOCK", 3)
+    texture = np.random.default_rng(2).integers(0, 256, (15, 30, 3), np.uint8)
+    left, right = np.ascontiguousarray(texture[:, :-4]), np.ascontiguousarray(texture[:, 4:])
+    volume = census_gradient_cost(left, right, min_disparity=1, levels=10)
+    level = census_gradient_levels(left, right, min_disparity=1, levels=10)
+    for k in [*range(10), 9, 4, 3, 0, 7]:
+        costs = level(k)
+        assert costs.shape == volume.shape[:2] and np.array_equal(costs, volume[:, :, k])
+        costs[:] = -1  # a caller's changes reach no other call
+    with pytest.raises(ValueError, match="level 10"):
+        level(10)

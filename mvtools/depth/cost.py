@@ -19,6 +19,7 @@ __all__ = [
     "ad_census_levels",
     "as_colour",
     "census_gradient_cost",
+    "census_gradient_levels",
     "census_transform",
     "check_pair",
     "mirror_costs",
@@ -113,30 +114,44 @@ def support_weights(
         The N neighbours in the order of the census bits; 0 for neighbours outside
         the view, whose census bits compare against replicated border pixels.
     """
+    colour = as_colour(colour)
+    table = _weight_table(colour, gamma)
+    offsets = np.array(_neighbour_offsets(window, step), np.int64).reshape(-1, 2)
+    return _support_weights(colour, offsets, table)
+
+
+def _weight_table(colour, gamma):
+    # the weights tabulated over the integer sum of the channels' absolute differences
     if gamma <= 0:
         raise ValueError(f"gamma must be positive, got {gamma}")
-    offsets = np.array(_neighbour_offsets(window, step), np.int64).reshape(-1, 2)
-    colour = as_colour(colour)
-    # tabulated over the integer sum of the channels' absolute differences
     largest = 3 * max(int(colour.max(initial=0)) - int(colour.min(initial=0)), 0)
-    table = np.exp(-np.arange(largest + 1) / 3 / gamma).astype(np.float32)
-    return _support_weights(colour, offsets, table)
+    return np.exp(-np.arange(largest + 1) / 3 / gamma).astype(np.float32)
 
 
 @njit(cache=True, nogil=True, parallel=True)
 def _support_weights(colour, offsets, table):
     rows, cols, _ = colour.shape
-    weights = np.zeros((rows, cols, offsets.shape[0]), np.float32)
+    weights = np.empty((rows, cols, offsets.shape[0]), np.float32)
     for y in prange(rows):
-        for x in range(cols):
-            for index in range(offsets.shape[0]):
-                qy, qx = y + offsets[index, 0], x + offsets[index, 1]
-                if 0 <= qy < rows and 0 <= qx < cols:
-                    difference = 0
-                    for c in range(3):
-                        difference += abs(colour[qy, qx, c] - colour[y, x, c])
-                    weights[y, x, index] = table[difference]
+        _row_weights(colour, offsets, table, y, weights[y])
     return weights
+
+
+@njit(cache=True, nogil=True)
+def _row_weights(colour, offsets, table, y, weights):
+    # row y of support_weights into weights, (W, N): the census-gradient cost makes its
+    # weights a row at a time with it rather than holding them for the whole view
+    rows, cols, _ = colour.shape
+    for x in range(cols):
+        for index in range(offsets.shape[0]):
+            qy, qx = y + offsets[index, 0], x + offsets[index, 1]
+            if 0 <= qy < rows and 0 <= qx < cols:
+                difference = 0
+                for c in range(3):
+                    difference += abs(colour[qy, qx, c] - colour[y, x, c])
+                weights[x, index] = table[difference]
+            else:
+                weights[x, index] = 0.0
 
 
 @intrinsic
@@ -183,10 +198,68 @@ def _ad_census_volume(
     return volume
 
 
+@njit(cache=True, nogil=True, parallel=True)
+def _census_gradient_volume(
+    signature_left,
+    signature_right,
+    colour_left,
+    colour_right,
+    offsets,
+    table_left,
+    table_right,
+    gradient_left,
+    gradient_right,
+    min_disparity,
+    lambda_census,
+    lambda_gradient,
+    outside_cost,
+    volume,
+):
+    # The census bits and support weights of both views a row at a time (the row's
+    # matches lie on the same row of the other view): held for whole views they would
+    # take 48 bytes of bits and 192 of weights per pixel and view, half a volume at
+    # 256 levels, beside the volume.
+    rows, cols, _ = volume.shape
+    neighbours = offsets.shape[0]
+    for y in prange(rows):
+        bits_left = np.empty((cols, neighbours), np.uint8)
+        bits_right = np.empty((cols, neighbours), np.uint8)
+        weights_left = np.empty((cols, neighbours), np.float32)
+        weights_right = np.empty((cols, neighbours), np.float32)
+        _row_bits(signature_left, y, bits_left)
+        _row_bits(signature_right, y, bits_right)
+        _row_weights(colour_left, offsets, table_left, y, weights_left)
+        _row_weights(colour_right, offsets, table_right, y, weights_right)
+        _census_gradient_row(
+            bits_left,
+            bits_right,
+            weights_left,
+            weights_right,
+            gradient_left[y],
+            gradient_right[y],
+            min_disparity,
+            lambda_census,
+            lambda_gradient,
+            outside_cost,
+            volume[y],
+        )
+    return volume
+
+
+@njit(cache=True, nogil=True)
+def _row_bits(signature, y, bits):
+    # row y's census signatures as one byte per neighbour, highest bit first, as the
+    # support weights are ordered: bits of (W, N)
+    cols, neighbours = bits.shape
+    for x in range(cols):
+        for index in range(neighbours):
+            bits[x, index] = (signature[y, x] >> np.uint64(neighbours - 1 - index)) & np.uint64(1)
+
+
 # fastmath lets the sums over the neighbours run in SIMD lanes; the order of the
 # additions is fixed by the compiled code, so the result stays deterministic.
-@njit(cache=True, nogil=True, parallel=True, fastmath=True)
-def _census_gradient_volume(
+@njit(cache=True, nogil=True, fastmath=True)
+def _census_gradient_row(
     bits_left,
     bits_right,
     weights_left,
@@ -194,35 +267,35 @@ def _census_gradient_volume(
     gradient_left,
     gradient_right,
     min_disparity,
-    levels,
     lambda_census,
     lambda_gradient,
     outside_cost,
+    costs,
 ):
-    rows, cols, neighbours = weights_left.shape
-    volume = np.empty((rows, cols, levels), np.float32)
-    for y in prange(rows):
-        for x in range(cols):
-            for k in range(levels):
-                xr = x - (min_disparity + k)
-                if xr < 0 or xr >= cols:
-                    volume[y, x, k] = outside_cost
-                    continue
-                total = np.float32(0.0)
-                mismatch = np.float32(0.0)
-                for b in range(neighbours):
-                    weight = weights_left[y, x, b] * weights_right[y, xr, b]
-                    total += weight
-                    mismatch += weight * np.float32(bits_left[y, x, b] ^ bits_right[y, xr, b])
-                gradient = abs(gradient_left[y, x, 0] - gradient_right[y, xr, 0]) + abs(
-                    gradient_left[y, x, 1] - gradient_right[y, xr, 1]
-                )
-                # no neighbour inside both views (a view of one pixel): no census evidence
-                fraction = mismatch / total if total > 0 else np.float32(0.0)
-                volume[y, x, k] = (
-                    2.0 - np.exp(-fraction / lambda_census) - np.exp(-gradient / lambda_gradient)
-                )
-    return volume
+    # the costs (W, levels) of one row from its bits and weights (W, N) and gradients
+    # (W, 2) in both views
+    cols, levels = costs.shape
+    neighbours = weights_left.shape[1]
+    for x in range(cols):
+        for k in range(levels):
+            xr = x - (min_disparity + k)
+            if xr < 0 or xr >= cols:
+                costs[x, k] = outside_cost
+                continue
+            total = np.float32(0.0)
+            mismatch = np.float32(0.0)
+            for b in range(neighbours):
+                weight = weights_left[x, b] * weights_right[xr, b]
+                total += weight
+                mismatch += weight * np.float32(bits_left[x, b] ^ bits_right[xr, b])
+            gradient = abs(gradient_left[x, 0] - gradient_right[xr, 0]) + abs(
+                gradient_left[x, 1] - gradient_right[xr, 1]
+            )
+            # no neighbour inside both views (a view of one pixel): no census evidence
+            fraction = mismatch / total if total > 0 else np.float32(0.0)
+            costs[x, k] = (
+                2.0 - np.exp(-fraction / lambda_census) - np.exp(-gradient / lambda_gradient)
+            )
 
 
 def check_pair(
@@ -384,18 +457,33 @@ def ad_census_levels(
     return level
 
 
+#: The census-gradient cost's settings, shared by the volume and its levels
+#: (:func:`census_gradient_cost`): the sparse census's window (height, width) and step,
+#: the colour scale of its weights, the scales of the weighted fraction of differing bits
+#: and of the gradient difference, the cost where nothing matches.
+GRADIENT_CENSUS_WINDOW = (13, 13)
+GRADIENT_CENSUS_STEP = 2
+GAMMA = 15.0
+GRADIENT_LAMBDA_CENSUS = 30 / 63
+LAMBDA_GRADIENT = 15.0
+GRADIENT_OUTSIDE_COST = 0.8
+
+#: levels that census_gradient_levels computes together
+_LEVEL_BLOCK = 16
+
+
 def census_gradient_cost(
     left: np.ndarray,
     right: np.ndarray,
     *,
     min_disparity: int,
     levels: int,
-    census_window: tuple[int, int] = (13, 13),
-    census_step: int = 2,
-    gamma: float = 15.0,
-    lambda_census: float = 30 / 63,
-    lambda_gradient: float = 15.0,
-    outside_cost: float = 0.8,
+    census_window: tuple[int, int] = GRADIENT_CENSUS_WINDOW,
+    census_step: int = GRADIENT_CENSUS_STEP,
+    gamma: float = GAMMA,
+    lambda_census: float = GRADIENT_LAMBDA_CENSUS,
+    lambda_gradient: float = LAMBDA_GRADIENT,
+    outside_cost: float = GRADIENT_OUTSIDE_COST,
 ) -> np.ndarray:
     """Matching cost volume of the left view: weighted sparse census plus gradients.
 
@@ -472,21 +560,92 @@ def census_gradient_cost(
     That is why ``ad-census`` stays the default of
     :func:`mvtools.depth.estimate_disparity`.
     """
+    inputs = _census_gradient_inputs(left, right, census_window, census_step, gamma)
+    volume = np.empty((*inputs[2].shape[:2], int(levels)), np.float32)
+    return _census_gradient_volume(
+        *inputs,
+        int(min_disparity),
+        np.float32(lambda_census),
+        np.float32(lambda_gradient),
+        np.float32(outside_cost),
+        volume,
+    )
+
+
+def census_gradient_levels(
+    left: np.ndarray,
+    right: np.ndarray,
+    *,
+    min_disparity: int,
+    levels: int,
+    census_window: tuple[int, int] = GRADIENT_CENSUS_WINDOW,
+    census_step: int = GRADIENT_CENSUS_STEP,
+    gamma: float = GAMMA,
+    lambda_census: float = GRADIENT_LAMBDA_CENSUS,
+    lambda_gradient: float = LAMBDA_GRADIENT,
+    outside_cost: float = GRADIENT_OUTSIDE_COST,
+) -> Callable[[int], np.ndarray]:
+    """The levels of :func:`census_gradient_cost` one at a time, without the volume.
+
+    Parameters
+    ----------
+    left, right, min_disparity, levels
+        As for :func:`census_gradient_cost`.
+    census_window, census_step, gamma, lambda_census, lambda_gradient, outside_cost
+        As for :func:`census_gradient_cost`.
+
+    Returns
+    -------
+    callable
+        ``level(k)``: the (H, W) float32 costs of disparity ``min_disparity + k``, equal
+        to ``census_gradient_cost(...)[:, :, k]``.
+
+    Examples
+    --------
+    >>> texture = np.random.default_rng(0).integers(0, 256, (9, 12, 3), np.uint8)
+    >>> left, right = texture[:, :-2], texture[:, 2:]
+    >>> level = census_gradient_levels(left, right, min_disparity=0, levels=3)
+    >>> volume = census_gradient_cost(left, right, min_disparity=0, levels=3)
+    >>> bool(np.array_equal(level(2), volume[:, :, 2]))
+    True
+    """
+    inputs = _census_gradient_inputs(left, right, census_window, census_step, gamma)
+    rows, cols = inputs[2].shape[:2]
+    # The volume's kernel on a block of levels at a time: it makes the bits and weights
+    # of a row again at each call, which costs about six levels' worth, so a block of
+    # consecutive levels (graphcut asks for them in order) shares them.
+    block = {"start": 0, "costs": np.empty((rows, cols, 0), np.float32)}
+
+    def level(k: int) -> np.ndarray:
+        if not 0 <= k < levels:
+            raise ValueError(f"level {k} is not in 0..{levels - 1}")
+        if not block["start"] <= k < block["start"] + block["costs"].shape[2]:
+            block["costs"] = None  # freed before the next block is made
+            block["start"] = k
+            block["costs"] = _census_gradient_volume(
+                *inputs,
+                int(min_disparity) + int(k),
+                np.float32(lambda_census),
+                np.float32(lambda_gradient),
+                np.float32(outside_cost),
+                np.empty((rows, cols, min(_LEVEL_BLOCK, levels - k)), np.float32),
+            )
+        # a copy, so that no caller can change the block's other levels
+        return block["costs"][:, :, k - block["start"]].copy()
+
+    return level
+
+
+def _census_gradient_inputs(left, right, census_window, census_step, gamma):
+    # the census signatures, colours, weight tables and gradients of both views and the
+    # census neighbours: what _census_gradient_volume makes a row's bits and weights of
     colour_left = as_colour(left)
     colour_right = as_colour(right)
-    bits, weights, gradients = [], [], []
+    offsets = np.array(_neighbour_offsets(census_window, census_step), np.int64).reshape(-1, 2)
+    signatures, gradients = [], []
     for colour in (colour_left, colour_right):
         grey = colour.mean(axis=2, dtype=np.float32)
-        signature = census_transform(grey, window=census_window, step=census_step)
-        view_weights = support_weights(colour, window=census_window, step=census_step, gamma=gamma)
-        # one byte per neighbour, highest bit first, as the weights are ordered
-        shifts = np.arange(view_weights.shape[2] - 1, -1, -1, dtype=np.uint64)
-        bits.append(
-            np.ascontiguousarray(
-                ((signature[:, :, None] >> shifts) & np.uint64(1)).astype(np.uint8)
-            )
-        )
-        weights.append(view_weights)
+        signatures.append(census_transform(grey, window=census_window, step=census_step))
         # Sobel / 8: the derivative in levels per pixel
         gradients.append(
             np.ascontiguousarray(
@@ -501,15 +660,14 @@ def census_gradient_cost(
                 )
             )
         )
-    return _census_gradient_volume(
-        *bits,
-        *weights,
+    return (
+        *signatures,
+        colour_left,
+        colour_right,
+        offsets,
+        _weight_table(colour_left, gamma),
+        _weight_table(colour_right, gamma),
         *gradients,
-        int(min_disparity),
-        int(levels),
-        np.float32(lambda_census),
-        np.float32(lambda_gradient),
-        np.float32(outside_cost),
     )
 
 
