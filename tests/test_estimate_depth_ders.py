@@ -72,7 +72,9 @@ def test_line_rig_disparity_range_gives_the_true_depth(tmp_path):
     assert (u == 128).all() and (v == 128).all()
     disparity = 1 + luma / 255.0 * 11  # the DERS mapping, inverted
     error = np.abs(disparity - 24.0 * true_inverse_depth("line"))
-    # Measured: 0.95 within 0.25 px (half a SearchLevel 2 step), 0.98 within 0.5 px.
+    # Measured: 0.905 within 0.25 px (half a SearchLevel 2 step: the depths are the planes
+    # of the search grid, as DERS's), 0.984 within 0.5 px; with sub-level winners by a
+    # parabola 0.95 and 0.98.
     assert (error <= 0.25).mean() > 0.9
     assert (error <= 0.5).mean() > 0.95
 
@@ -95,8 +97,10 @@ def test_soft_segment_matching_gives_the_true_depth(tmp_path):
     assert code == 0, err
     luma = read_frame(output, YuvFormat(*SIZE))[0]
     error = np.abs(1 + luma / 255.0 * 11 - 24.0 * true_inverse_depth("line"))
-    # Measured: 0.945 within 0.25 px, against 0.947 with MatchingMethod 2
-    assert (error <= 0.25).mean() > 0.9
+    # Measured: 0.899 within 0.25 px (the nearest plane of the SearchLevel 2 grid) and 0.982
+    # within 0.5 px, against 0.905 and 0.984 with MatchingMethod 2
+    assert (error <= 0.25).mean() > 0.88
+    assert (error <= 0.5).mean() > 0.97
 
 
 @pytest.mark.slow
