@@ -211,3 +211,16 @@ def test_bad_arguments():
         trim_fattening(
             np.zeros((8, 8)), np.ones((8, 8), bool), labels, np.zeros((8, 8, 3)), image, reach=0
         )
+
+
+def test_the_merge_order_is_numpys_stable_sort_of_the_weights():
+    from mvtools.depth.oversegment import _stable_order
+
+    # many ties (stable: index order among them), zeros, and values across both 16-bit
+    # halves of the float32 bit pattern
+    rng = np.random.default_rng(3)
+    weights = np.concatenate(
+        [rng.integers(0, 40, 5000) / np.float32(4), rng.random(5000) * 400, np.zeros(50)]
+    ).astype(np.float32)
+    rng.shuffle(weights)
+    np.testing.assert_array_equal(_stable_order(weights), np.argsort(weights, kind="stable"))

@@ -23,12 +23,13 @@ def _find(parent, node):
 
 
 @njit(cache=True, nogil=True)
-def _felzenszwalb(first, second, weight, order, pixels, scale, min_size):
-    parent = np.arange(pixels)
-    size = np.ones(pixels, np.int64)
+def _felzenszwalb(first, second, weight, pixels, scale, min_size):
+    # edges in merge order: by increasing weight, ties in their listed order
+    parent = np.arange(pixels).astype(np.int32)
+    size = np.ones(pixels, np.int32)
     # a component's internal difference plus scale / size: the merge threshold
     threshold = np.full(pixels, scale, np.float64)
-    for e in order:
+    for e in range(first.size):
         a, b = _find(parent, first[e]), _find(parent, second[e])
         if a != b and weight[e] <= threshold[a] and weight[e] <= threshold[b]:
             if size[a] < size[b]:
@@ -37,7 +38,7 @@ def _felzenszwalb(first, second, weight, order, pixels, scale, min_size):
             size[a] += size[b]
             threshold[a] = weight[e] + scale / size[a]
     # components below min_size join their most similar neighbour
-    for e in order:
+    for e in range(first.size):
         a, b = _find(parent, first[e]), _find(parent, second[e])
         if a != b and (size[a] < min_size or size[b] < min_size):
             if size[a] < size[b]:
@@ -54,6 +55,28 @@ def _felzenszwalb(first, second, weight, order, pixels, scale, min_size):
             count += 1
         labels[i] = number[root]
     return labels
+
+
+@njit(cache=True, nogil=True)
+def _stable_order(keys):
+    # Indices that sort non-negative float32 keys, ties in index order: a least-significant
+    # digit radix sort of their bit patterns (which order as the values do), two passes
+    # of 16 bits, linear where np.argsort(kind="stable") merges.
+    bits = keys.view(np.uint32)
+    order = np.arange(bits.size).astype(np.int32)
+    spare = np.empty_like(order)
+    for shift in (0, 16):
+        counts = np.zeros(65537, np.int64)
+        for i in range(bits.size):
+            counts[((bits[i] >> shift) & 0xFFFF) + 1] += 1
+        for digit in range(65536):
+            counts[digit + 1] += counts[digit]
+        for i in range(order.size):
+            digit = (bits[order[i]] >> shift) & 0xFFFF
+            spare[counts[digit]] = order[i]
+            counts[digit] += 1
+        order, spare = spare, order
+    return order
 
 
 def segment_image(
@@ -93,7 +116,7 @@ def segment_image(
     if sigma > 0:
         colour = cv2.GaussianBlur(colour, (0, 0), sigma).reshape(colour.shape)
     rows, cols = colour.shape[:2]
-    index = np.arange(rows * cols).reshape(rows, cols)
+    index = np.arange(rows * cols, dtype=np.int32).reshape(rows, cols)
     # right, down, down-right and down-left neighbours: each 8-connected edge once
     pairs = [
         (index[:, :-1], index[:, 1:]),
@@ -105,9 +128,10 @@ def segment_image(
     second = np.concatenate([b.ravel() for _, b in pairs])
     flat = colour.reshape(rows * cols, -1)
     weight = np.sqrt(((flat[first] - flat[second]) ** 2).sum(axis=1))
-    order = np.argsort(weight, kind="stable")
+    # the edges in merge order, read one after the other
+    order = _stable_order(np.ascontiguousarray(weight, np.float32))
     return _felzenszwalb(
-        first, second, weight, order, rows * cols, float(scale), int(min_size)
+        first[order], second[order], weight[order], rows * cols, float(scale), int(min_size)
     ).reshape(rows, cols)
 
 
