@@ -8,13 +8,20 @@ energy by belief propagation."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 import maxflow
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["alpha_expansion", "graphcut_labels", "graphcut_volume", "smoothness_weights"]
+__all__ = [
+    "alpha_expansion",
+    "graphcut_labels",
+    "graphcut_levels",
+    "graphcut_volume",
+    "label_energy_levels",
+    "smoothness_weights",
+]
 
 #: The ``graphcut`` method's tuning, shared by :func:`graphcut_volume` and
 #: :func:`graphcut_labels` (see :func:`graphcut_volume`).
@@ -294,13 +301,15 @@ def graphcut_labels(
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _label_energies(cost, labels, right, down, truncation, volume):
-    # each element is read before it is written, so volume may be cost itself
+def _label_energies(cost, first, labels, right, down, truncation, volume):
+    # cost holds levels first, first + 1, ...; each element is read before it is
+    # written, so volume may be cost itself
     rows, cols, levels = cost.shape
     for y in prange(rows):
         for x in range(cols):
-            for d in range(levels):
-                total = cost[y, x, d]
+            for i in range(levels):
+                d = first + i
+                total = cost[y, x, i]
                 if x > 0:
                     total += right[y, x - 1] * min(abs(d - labels[y, x - 1]), truncation)
                 if x < cols - 1:
@@ -309,7 +318,7 @@ def _label_energies(cost, labels, right, down, truncation, volume):
                     total += down[y - 1, x] * min(abs(d - labels[y - 1, x]), truncation)
                 if y < rows - 1:
                     total += down[y, x] * min(abs(d - labels[y + 1, x]), truncation)
-                volume[y, x, d] = total
+                volume[y, x, i] = total
     return volume
 
 
@@ -342,7 +351,95 @@ def label_energies(
         ``out`` if given.
     """
     volume = np.empty_like(cost) if out is None else out
-    return _label_energies(cost, labels, right, down, truncation, volume)
+    return _label_energies(cost, 0, labels, right, down, truncation, volume)
+
+
+#: Bytes of one level chunk of :func:`label_energy_levels` (a few levels of a large frame).
+_CHUNK_BYTES = 1 << 24
+
+
+def label_energy_levels(
+    levels: Callable[[int, int], np.ndarray],
+    count: int,
+    labels: np.ndarray,
+    right: np.ndarray,
+    down: np.ndarray,
+    truncation: int,
+) -> Iterator[tuple[int, np.ndarray]]:
+    """:func:`label_energies` a few levels at a time, from costs given a few levels at a
+    time, so that neither volume is held whole.
+
+    Parameters
+    ----------
+    levels : callable
+        ``levels(start, stop)`` gives the (H, W, stop - start) float32 costs of levels
+        ``start`` to ``stop`` (:data:`mvtools.depth.local.LevelSlices`).
+    count : int
+        Number of levels D.
+    labels, right, down, truncation
+        As for :func:`label_energies`.
+
+    Returns
+    -------
+    iterator of (int, ndarray of float32, shape (H, W, n))
+        The first level of each chunk and its energies, in order of level.
+    """
+    chunk = max(1, _CHUNK_BYTES // max(1, labels.size * 4))
+
+    def chunks():
+        for start in range(0, count, chunk):
+            costs = np.ascontiguousarray(levels(start, min(start + chunk, count)), np.float32)
+            # not in place: the chunk may be a view of the caller's costs
+            energies = np.empty_like(costs)
+            yield start, _label_energies(costs, start, labels, right, down, truncation, energies)
+
+    return chunks()
+
+
+def graphcut_levels(
+    levels: Callable[[int, int], np.ndarray],
+    count: int,
+    guide: np.ndarray,
+    *,
+    smoothing: float = SMOOTHING,
+    smoothing2: float = SMOOTHING2,
+    truncation: int = TRUNCATION,
+    colour_scale: float = COLOUR_SCALE,
+    cycles: int = CYCLES,
+) -> Iterator[tuple[int, np.ndarray]]:
+    """The ``graphcut`` method's volume a few levels at a time, from costs given a few
+    levels at a time, so that neither is held whole: the expansion asks for one level
+    at a time (:func:`graphcut_labels`), then the label energies come in chunks
+    (:func:`label_energy_levels`), those of :func:`graphcut_volume` bit for bit.
+
+    Parameters
+    ----------
+    levels : callable
+        ``levels(start, stop)`` gives the (H, W, stop - start) float32 costs of levels
+        ``start`` to ``stop``, the same at every call
+        (:data:`mvtools.depth.local.LevelSlices`).
+    count : int
+        Number of levels D.
+    guide, smoothing, smoothing2, truncation, colour_scale, cycles
+        As for :func:`graphcut_volume`.
+
+    Returns
+    -------
+    iterator of (int, ndarray of float32, shape (H, W, n))
+        The first level of each chunk and its label energies, in order of level; the
+        expansion runs before the first chunk.
+    """
+    labels, right, down = graphcut_labels(
+        lambda k: levels(k, k + 1)[:, :, 0],
+        count,
+        guide,
+        smoothing=smoothing,
+        smoothing2=smoothing2,
+        truncation=truncation,
+        colour_scale=colour_scale,
+        cycles=cycles,
+    )
+    return label_energy_levels(levels, count, labels, right, down, int(truncation))
 
 
 def graphcut_volume(

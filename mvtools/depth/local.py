@@ -5,11 +5,20 @@ regions, so windows do not straddle depth edges the way plain boxes do."""
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
+
 import cv2
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["guided_filter", "local_volume", "soft_segment_aggregate"]
+__all__ = [
+    "LevelSlices",
+    "guided_filter",
+    "guided_filter_levels",
+    "local_levels",
+    "local_volume",
+    "soft_segment_aggregate",
+]
 
 # OpenCV (5) filters images of at most 128 channels.
 _CHANNELS = 128
@@ -38,23 +47,26 @@ def _box(image: np.ndarray, radius: int) -> np.ndarray:
     )
 
 
-def guided_filter(
-    volume: np.ndarray,
-    guide: np.ndarray,
-    *,
-    radius: int,
-    epsilon: float,
-    out: np.ndarray | None = None,
-) -> np.ndarray:
-    """Colour guided filter of every slice of a volume.
+#: ``levels(start, stop)``: the (H, W, stop - start) float32 slices of levels ``start`` to
+#: ``stop`` of a volume, e.g. ``lambda start, stop: volume[:, :, start:stop]``.
+LevelSlices = Callable[[int, int], np.ndarray]
+
+
+def guided_filter_levels(
+    levels: LevelSlices, count: int, guide: np.ndarray, *, radius: int, epsilon: float
+) -> Iterator[tuple[int, np.ndarray]]:
+    """Colour guided filter of the slices of a volume given a few levels at a time.
 
     ``q = mean(a) . I + mean(b)`` with, per window, ``a = (Sigma + epsilon Id)^-1
     cov(I, p)`` and ``b = mean(p) - a . mean(I)``.
 
     Parameters
     ----------
-    volume : ndarray of float32, shape (H, W, D)
-        Slices ``p`` to filter.
+    levels : callable
+        ``levels(start, stop)`` gives the slices ``p`` of levels ``start`` to ``stop``,
+        shape (H, W, stop - start) (:data:`LevelSlices`).
+    count : int
+        Number of levels D.
     guide : ndarray of float32, shape (H, W, 3)
         Colour guide ``I``, values in [0, 1].
     radius : int
@@ -62,21 +74,18 @@ def guided_filter(
     epsilon : float
         Regularisation of the colour covariance ``Sigma``: colour variations well below
         ``sqrt(epsilon)`` are treated as flat, so the filter averages there; positive.
-    out : ndarray of float32, shape (H, W, D), optional
-        Where to write the result; it may be ``volume`` itself (in place), as the
-        levels are filtered a few at a time.
 
     Returns
     -------
-    ndarray of float32, shape (H, W, D)
-        ``out`` if given.
+    iterator of (int, ndarray of float32, shape (H, W, n))
+        The first level of each chunk and its filtered slices, in order of level; the
+        guide's statistics are computed before the first chunk.
     """
     if radius < 1 or epsilon <= 0:
         raise ValueError(
             f"guided filter needs radius >= 1 and epsilon > 0, got {radius} and {epsilon}"
         )
     guide = np.ascontiguousarray(guide, dtype=np.float32)
-    volume = np.ascontiguousarray(volume, dtype=np.float32)
     mean_guide = _box(guide, radius)
     covariance = np.empty(guide.shape[:2] + (3, 3), np.float32)
     for i in range(3):
@@ -86,25 +95,101 @@ def guided_filter(
                 - mean_guide[:, :, i] * mean_guide[:, :, j]
             )
     inverse = np.linalg.inv(covariance + epsilon * np.eye(3, dtype=np.float32))
-    result = np.empty_like(volume) if out is None else out
     # A few levels at a time: every step is per level, so the filtered levels are the
     # same whatever the chunk, and the temporaries stay small beside the volume.
-    chunk = min(_CHANNELS, max(1, _CHUNK_BYTES // max(1, volume.shape[0] * volume.shape[1] * 4)))
-    for start in range(0, volume.shape[2], chunk):
-        part = np.ascontiguousarray(volume[:, :, start : start + chunk])
-        mean_volume = _box(part, radius)
-        cross = [
-            _box(guide[:, :, [i]] * part, radius) - mean_guide[:, :, [i]] * mean_volume
-            for i in range(3)
-        ]
-        offset = mean_volume
-        filtered = np.zeros_like(part)
-        for i in range(3):
-            slope = sum(inverse[:, :, i, [j]] * cross[j] for j in range(3))
-            offset = offset - slope * mean_guide[:, :, [i]]
-            filtered += _box(slope, radius) * guide[:, :, [i]]
-        result[:, :, start : start + chunk] = filtered + _box(offset, radius)
+    chunk = min(_CHANNELS, max(1, _CHUNK_BYTES // max(1, guide.shape[0] * guide.shape[1] * 4)))
+
+    def chunks():
+        for start in range(0, count, chunk):
+            part = np.ascontiguousarray(levels(start, min(start + chunk, count)), np.float32)
+            mean_volume = _box(part, radius)
+            cross = [
+                _box(guide[:, :, [i]] * part, radius) - mean_guide[:, :, [i]] * mean_volume
+                for i in range(3)
+            ]
+            offset = mean_volume
+            filtered = np.zeros_like(part)
+            for i in range(3):
+                slope = sum(inverse[:, :, i, [j]] * cross[j] for j in range(3))
+                offset = offset - slope * mean_guide[:, :, [i]]
+                filtered += _box(slope, radius) * guide[:, :, [i]]
+            yield start, filtered + _box(offset, radius)
+
+    return chunks()
+
+
+def guided_filter(
+    volume: np.ndarray,
+    guide: np.ndarray,
+    *,
+    radius: int,
+    epsilon: float,
+    out: np.ndarray | None = None,
+) -> np.ndarray:
+    """Colour guided filter of every slice of a volume (:func:`guided_filter_levels`).
+
+    Parameters
+    ----------
+    volume : ndarray of float32, shape (H, W, D)
+        Slices ``p`` to filter.
+    guide : ndarray of float32, shape (H, W, 3)
+        Colour guide ``I``, values in [0, 1].
+    radius, epsilon
+        As for :func:`guided_filter_levels`.
+    out : ndarray of float32, shape (H, W, D), optional
+        Where to write the result; it may be ``volume`` itself (in place), as the
+        levels are filtered a few at a time.
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W, D)
+        ``out`` if given.
+    """
+    volume = np.ascontiguousarray(volume, dtype=np.float32)
+    result = np.empty_like(volume) if out is None else out
+    for start, filtered in guided_filter_levels(
+        lambda start, stop: volume[:, :, start:stop],
+        volume.shape[2],
+        guide,
+        radius=radius,
+        epsilon=epsilon,
+    ):
+        result[:, :, start : start + filtered.shape[2]] = filtered
     return result
+
+
+def local_levels(
+    levels: LevelSlices,
+    count: int,
+    guide: np.ndarray,
+    *,
+    radius: int = 8,
+    epsilon: float = 1e-4,
+) -> Iterator[tuple[int, np.ndarray]]:
+    """The ``local`` method's volume a few levels at a time, from costs given a few levels
+    at a time, so that neither is held whole: the chunks of :func:`local_volume`.
+
+    Parameters
+    ----------
+    levels : callable
+        ``levels(start, stop)``: the matching costs of levels ``start`` to ``stop``
+        (:data:`LevelSlices`).
+    count : int
+        Number of levels D.
+    guide, radius, epsilon
+        As for :func:`local_volume`.
+
+    Returns
+    -------
+    iterator of (int, ndarray of float32, shape (H, W, n))
+        The first level of each chunk and its aggregated costs, in order of level.
+    """
+    return guided_filter_levels(levels, count, _unit_guide(guide), radius=radius, epsilon=epsilon)
+
+
+def _unit_guide(guide: np.ndarray) -> np.ndarray:
+    # the guided filter's epsilon is stated for colours in [0, 1]
+    return np.asarray(guide, np.float32) / 255.0
 
 
 def local_volume(
@@ -139,7 +224,7 @@ def local_volume(
     cost = np.ascontiguousarray(cost, dtype=np.float32)
     return guided_filter(
         cost,
-        np.asarray(guide, np.float32) / 255.0,
+        _unit_guide(guide),
         radius=radius,
         epsilon=epsilon,
         out=cost if overwrite else None,
