@@ -29,9 +29,9 @@ _FROM_UP, _FROM_DOWN, _FROM_LEFT, _FROM_RIGHT = 0, 1, 2, 3
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _send(data, own, weight0, weight1, weight2, weight3, truncation, sent):
-    # sent[s](d) = min_e [h(e) + w min(|d - e|, T)] with h = data + all four incoming
-    # messages but own[s], the message back to the neighbour on side s, by the two-pass
+def _send(data, own, weight0, weight1, weight2, weight3, truncation, sent0, sent1, sent2, sent3):
+    # sent<s>(d) = min_e [h(e) + w min(|d - e|, T)] with h = data + all four incoming
+    # messages but own[s], the message to the neighbour on side s, by the two-pass
     # distance transform of the linear term, capped at min h + w T; shifted to a minimum
     # of 0 so that messages stay bounded. The four messages' scans run side by side in
     # one pass each way, four independent dependency chains that the processor overlaps
@@ -49,10 +49,10 @@ def _send(data, own, weight0, weight1, weight2, weight3, truncation, sent):
     lowest1 = min(lowest1, last1)
     lowest2 = min(lowest2, last2)
     lowest3 = min(lowest3, last3)
-    sent[0, 0] = last0
-    sent[1, 0] = last1
-    sent[2, 0] = last2
-    sent[3, 0] = last3
+    sent0[0] = last0
+    sent1[0] = last1
+    sent2[0] = last2
+    sent3[0] = last3
     for d in range(1, levels):
         total = data[d] + own[0, d] + own[1, d] + own[2, d] + own[3, d]
         h0 = total - own[0, d]
@@ -67,28 +67,28 @@ def _send(data, own, weight0, weight1, weight2, weight3, truncation, sent):
         last1 = min(h1, last1 + weight1)
         last2 = min(h2, last2 + weight2)
         last3 = min(h3, last3 + weight3)
-        sent[0, d] = last0
-        sent[1, d] = last1
-        sent[2, d] = last2
-        sent[3, d] = last3
+        sent0[d] = last0
+        sent1[d] = last1
+        sent2[d] = last2
+        sent3[d] = last3
     cap0 = weight0 * truncation
     cap1 = weight1 * truncation
     cap2 = weight2 * truncation
     cap3 = weight3 * truncation
     for d in range(levels - 2, -1, -1):
-        h0 = min(sent[0, d], last0 + weight0)
-        h1 = min(sent[1, d], last1 + weight1)
-        h2 = min(sent[2, d], last2 + weight2)
-        h3 = min(sent[3, d], last3 + weight3)
-        sent[0, d + 1] = min(last0 - lowest0, cap0)
-        sent[1, d + 1] = min(last1 - lowest1, cap1)
-        sent[2, d + 1] = min(last2 - lowest2, cap2)
-        sent[3, d + 1] = min(last3 - lowest3, cap3)
+        h0 = min(sent0[d], last0 + weight0)
+        h1 = min(sent1[d], last1 + weight1)
+        h2 = min(sent2[d], last2 + weight2)
+        h3 = min(sent3[d], last3 + weight3)
+        sent0[d + 1] = min(last0 - lowest0, cap0)
+        sent1[d + 1] = min(last1 - lowest1, cap1)
+        sent2[d + 1] = min(last2 - lowest2, cap2)
+        sent3[d + 1] = min(last3 - lowest3, cap3)
         last0, last1, last2, last3 = h0, h1, h2, h3
-    sent[0, 0] = min(last0 - lowest0, cap0)
-    sent[1, 0] = min(last1 - lowest1, cap1)
-    sent[2, 0] = min(last2 - lowest2, cap2)
-    sent[3, 0] = min(last3 - lowest3, cap3)
+    sent0[0] = min(last0 - lowest0, cap0)
+    sent1[0] = min(last1 - lowest1, cap1)
+    sent2[0] = min(last2 - lowest2, cap2)
+    sent3[0] = min(last3 - lowest3, cap3)
 
 
 @njit(cache=True, nogil=True, parallel=True)
@@ -105,9 +105,9 @@ def _iterate(data, right, down, messages, truncation, iterations, row_offset, fi
     rows, cols, levels = data.shape
     for iteration in range(iterations):
         for y in prange(max(0, first - iteration), min(rows, stop - iteration)):
-            sent = np.empty((4, levels), np.float32)
+            # a side without a neighbour gets its message in a row nobody reads
+            spare = np.empty((4, levels), np.float32)
             for x in range((y + row_offset + iteration) % 2, cols, 2):
-                # a side without a neighbour gets a message nobody reads
                 _send(
                     data[y, x],
                     messages[:, y, x],
@@ -116,16 +116,11 @@ def _iterate(data, right, down, messages, truncation, iterations, row_offset, fi
                     right[y, x - 1] if x > 0 else np.float32(0),
                     right[y, x] if x < cols - 1 else np.float32(0),
                     truncation,
-                    sent,
+                    messages[_FROM_DOWN, y - 1, x] if y > 0 else spare[_FROM_UP],
+                    messages[_FROM_UP, y + 1, x] if y < rows - 1 else spare[_FROM_DOWN],
+                    messages[_FROM_RIGHT, y, x - 1] if x > 0 else spare[_FROM_LEFT],
+                    messages[_FROM_LEFT, y, x + 1] if x < cols - 1 else spare[_FROM_RIGHT],
                 )
-                if y > 0:
-                    messages[_FROM_DOWN, y - 1, x] = sent[_FROM_UP]
-                if y < rows - 1:
-                    messages[_FROM_UP, y + 1, x] = sent[_FROM_DOWN]
-                if x > 0:
-                    messages[_FROM_RIGHT, y, x - 1] = sent[_FROM_LEFT]
-                if x < cols - 1:
-                    messages[_FROM_LEFT, y, x + 1] = sent[_FROM_RIGHT]
 
 
 @njit(cache=True, nogil=True, parallel=True)
