@@ -39,7 +39,10 @@ def _send(data, own, weight0, weight1, weight2, weight3, truncation, sent0, sent
     # pass caps and shifts as it goes; each value gets the same float operations, in
     # the same order and types, as a message at a time.
     levels = data.shape[0]
-    lowest0 = lowest1 = lowest2 = lowest3 = np.inf
+    # (the minima in float32: a float32 difference rounds exactly as a float64 one
+    # rounded to float32, the float64 having more than twice the float32's precision
+    # bits, so shifting by them gives the same bits as shifting by a float64 minimum)
+    lowest0 = lowest1 = lowest2 = lowest3 = np.float32(np.inf)
     total = data[0] + own[0, 0] + own[1, 0] + own[2, 0] + own[3, 0]
     last0 = total - own[0, 0]
     last1 = total - own[1, 0]
