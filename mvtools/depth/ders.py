@@ -61,7 +61,8 @@ from numba import njit, prange
 
 from mvtools.depth import METHODS
 from mvtools.depth.bp import bp_strips
-from mvtools.depth.local import soft_segment_aggregate
+from mvtools.depth.graphcut import graphcut_levels
+from mvtools.depth.local import LevelSlices, local_levels, soft_segment_aggregate
 from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
 from mvtools.depth.planesweep import plane_sweep_cost, sweep_homographies
@@ -78,6 +79,10 @@ TEMPORAL_BLOCK = 8
 
 #: Methods whose volume comes a strip of rows at a time, never whole.
 _STRIPS = {"sgm": sgm_strips, "bp": bp_strips}
+
+#: Methods whose volume comes a few levels at a time, never whole, from costs read a few
+#: levels at a time.
+_LEVELWISE = {"local": local_levels, "graphcut": graphcut_levels}
 
 #: SmoothingCoefficient at which the methods run with their own tuning (DERS's default).
 _NEUTRAL_SMOOTHING = 4.0
@@ -292,15 +297,15 @@ class DersEstimator:
         shifts = [] if self._shifts is None else list(self._shifts)
         if params.smoothing_coefficient > 0:
             scale = _NEUTRAL_SMOOTHING / params.smoothing_coefficient
-            # at the neutral smoothing no scaled copy of the volume is made
-            scaled = cost * np.float32(scale) if scale != 1 else cost
             if self.method in _STRIPS:
+                # at the neutral smoothing no scaled copy of the volume is made
+                scaled = cost * np.float32(scale) if scale != 1 else cost
                 level, own = _streamed_winners(_STRIPS[self.method](scaled, center), shifts)
             else:
-                # the method may write into a scaled copy; the segment planes read the costs
-                volume = METHODS[self.method](scaled, center, overwrite=scale != 1)
-                level, own = _winners(volume, shifts)
-                del volume
+                # neither the scaled costs nor the method's volume is ever whole; the
+                # segment planes read the costs afterwards
+                chunks = _LEVELWISE[self.method](_scaled_levels(cost, scale), cost.shape[2], center)
+                level, own = _levelwise_winners(chunks, cost.shape[:2], cost.shape[2], shifts)
         else:
             level, own = _winners(cost, shifts)
         levels = self.inverse_depths.size
@@ -441,6 +446,105 @@ def _streamed_winners(strips, shifts: list[np.ndarray]):
         for levels, shift in zip(own, shifts):
             levels.append(_neighbour_levels(strip, shift))
     return np.concatenate(level), [np.concatenate(levels) for levels in own]
+
+
+def _scaled_levels(cost: np.ndarray, scale: float) -> LevelSlices:
+    """Levels ``start`` to ``stop`` of ``cost * float32(scale)`` (the SmoothingCoefficient
+    factor), a contiguous copy made a few levels at a time: the same values as slices of
+    the whole scaled volume, which is never made."""
+    factor = np.float32(scale)
+    if scale == 1:
+        return lambda start, stop: np.ascontiguousarray(cost[:, :, start:stop])
+    return lambda start, stop: cost[:, :, start:stop] * factor
+
+
+def _levelwise_winners(chunks, shape: tuple[int, int], levels: int, shifts: list[np.ndarray]):
+    """:func:`_winners` of a method's volume given a few levels at a time, ``(start,
+    chunk)`` in order of level (:func:`mvtools.depth.local.local_levels`,
+    :func:`mvtools.depth.graphcut.graphcut_levels`), so that the volume is never whole:
+    per pixel a running minimum over the levels for the center, and per rectified
+    neighbour a running minimum of the center values at the shifted pixel; bit for bit
+    the same levels."""
+    rows, cols = shape
+    best = np.zeros(shape, np.int64)
+    best_cost = np.empty(shape, np.float32)
+    below = np.empty(shape, np.float32)
+    above = np.empty(shape, np.float32)
+    last = np.empty(shape, np.float32)
+    shift_table = np.array(shifts, np.float64).reshape(len(shifts), levels)
+    neighbour_cost = np.full((len(shifts), rows, cols), np.inf, np.float32)
+    own = np.full((len(shifts), rows, cols), -1, np.int64)
+    expected = 0
+    for start, chunk in chunks:
+        if start != expected or chunk.shape[:2] != shape:
+            raise ValueError(
+                f"chunks must follow level by level over {shape}: got level {start} of "
+                f"shape {chunk.shape} after {expected} levels"
+            )
+        chunk = np.ascontiguousarray(chunk, np.float32)
+        _add_levels(
+            chunk, start, best, best_cost, below, above, last, shift_table, neighbour_cost, own
+        )
+        expected += chunk.shape[2]
+    if expected != levels:
+        raise ValueError(f"chunks gave {expected} levels of {levels}")
+    return _winning_levels(best, best_cost, below, above, levels), list(own)
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _add_levels(chunk, start, best, best_cost, below, above, last, shifts, neighbour_cost, own):
+    # Levels start, start + 1, ... of the volume into the running winners. The center
+    # keeps, as winner_takes_all reads them, its first level of least cost and the costs
+    # of the levels either side of it (below: the level before it, kept when it wins;
+    # above: the level after it, met next). A neighbour pixel x keeps, as
+    # _neighbour_levels does, the level whose center pixel x - shift (rounded half up)
+    # costs least, the first such; the inf it starts from is never strictly beaten by
+    # a NaN, as there.
+    rows, cols, count = chunk.shape
+    for y in prange(rows):
+        for x in range(cols):
+            for i in range(count):
+                k = start + i
+                value = chunk[y, x, i]
+                if k == 0:
+                    best[y, x] = 0
+                    best_cost[y, x] = value
+                else:
+                    if best[y, x] == k - 1:
+                        above[y, x] = value
+                    if value < best_cost[y, x]:
+                        best[y, x] = k
+                        best_cost[y, x] = value
+                        below[y, x] = last[y, x]
+                last[y, x] = value
+        for n in range(shifts.shape[0]):
+            for x in range(cols):
+                for i in range(count):
+                    k = start + i
+                    source = int(np.floor(x - shifts[n, k] + 0.5))
+                    if 0 <= source < cols and chunk[y, source, i] < neighbour_cost[n, y, x]:
+                        neighbour_cost[n, y, x] = chunk[y, source, i]
+                        own[n, y, x] = k
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _winning_levels(best, best_cost, below, above, levels):
+    # winner_takes_all's parabola through the winner and the levels either side, term
+    # for term in the same types: the caller rounds the level, and a tie with the level
+    # above gives an offset of exactly 0.5, which np.rint takes to the even level, so
+    # the offset decides as well as the winner
+    rows, cols = best.shape
+    level = np.empty((rows, cols), np.float32)
+    for y in prange(rows):
+        for x in range(cols):
+            winner = best[y, x]
+            offset = np.float32(0.0)
+            if 0 < winner < levels - 1:
+                curvature = below[y, x] - 2 * best_cost[y, x] + above[y, x]
+                if curvature > 0 and np.isfinite(curvature):
+                    offset = (below[y, x] - above[y, x]) / (2 * curvature)
+            level[y, x] = winner + offset
+    return level
 
 
 def _confirmed_by_a_neighbour(
