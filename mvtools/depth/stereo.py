@@ -8,7 +8,13 @@ from collections.abc import Callable
 import numpy as np
 
 from mvtools.depth.bp import bp_volume, bp_winners
-from mvtools.depth.cost import COSTS, ad_census_levels, check_pair, mirror_costs
+from mvtools.depth.cost import (
+    COSTS,
+    ad_census_levels,
+    census_gradient_levels,
+    check_pair,
+    mirror_costs,
+)
 from mvtools.depth.graphcut import graphcut_labels, graphcut_volume, label_energies
 from mvtools.depth.local import local_volume
 from mvtools.depth.oversegment import plane_segments
@@ -34,8 +40,9 @@ METHODS: dict[str, Callable[[np.ndarray, np.ndarray], np.ndarray]] = {
 #: those of their volume (patchmatch starts from sgm's)
 _STREAMED = {"sgm": sgm_winners, "patchmatch": sgm_winners, "bp": bp_winners}
 
-#: costs that come one level at a time too (for graphcut's expansion)
-_LEVELWISE = {"ad-census": ad_census_levels}
+#: costs that come one level at a time too (for graphcut's expansion, which then holds no
+#: volume: with census-gradient on Aloe, 256 disparities, 1808 MB instead of over 2113)
+_LEVELWISE = {"ad-census": ad_census_levels, "census-gradient": census_gradient_levels}
 
 #: graphcut_volume's truncation, which its label energies take
 _GRAPHCUT_TRUNCATION = inspect.signature(graphcut_volume).parameters["truncation"].default
