@@ -12,9 +12,9 @@ Znear and Zfar, beside the bars (20 s with 128 planes, 3 GB with 256), and the s
 pixels whose depth is within one plane of the truth. Last, Poznan Hall 2's camera 7
 synthesized from camera 5 with the depth estimated for camera 5 against the shipped depth.
 
-Environment: MVTOOLS_BENCH_METHODS=sgm,bp (default: the DERS default alone),
+Environment: MVTOOLS_BENCH_METHODS=sgm,bp (default: the default method alone),
 MVTOOLS_BENCH_SETS=tsukuba,cones (default: all), MVTOOLS_BENCH_HD_METHODS=sgm,bp
-(default: sgm; bp holds its whole volumes, graphcut takes minutes).
+(default: the default method; graphcut takes minutes).
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ from mvtools.datasets import (
     write_hall_ders_case,
     write_middlebury_ders_case,
 )
+from mvtools.depth.options import DEFAULT_METHOD
 from mvtools.geometry.depth import DepthCoding
 from mvtools.io.middlebury import MIDDLEBURY_SETS
 from mvtools.io.yuv import YuvFormat, read_frame
@@ -86,7 +87,7 @@ def hd_rows(folder: Path) -> list:
     )[0]
     true_z = DepthCoding((2.0, 13.0), 16).z(truth)
     rows = []
-    methods = os.environ.get("MVTOOLS_BENCH_HD_METHODS", "sgm").split(",")
+    methods = os.environ.get("MVTOOLS_BENCH_HD_METHODS", DEFAULT_METHOD).split(",")
     for method in methods:
         for planes, bar, what in ((128, 20.0, "seconds"), (256, 3072.0, "peak MB")):
             output = line / f"hd_{method}_{planes}_1920x1088_gray16le.yuv"

@@ -25,6 +25,7 @@ import os
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
+from mvtools.depth.options import DEFAULT_METHOD
 from mvtools.geometry.depth import check_depth_range, depth_sign
 
 
@@ -620,7 +621,7 @@ class DersParams(_ProgramParams):
     )
     method: str = _param(
         "Method",
-        "sgm",
+        DEFAULT_METHOD,
         "depth optimisation (mvtools extension): sgm semi-global, bp belief propagation, "
         "graphcut alpha-expansion, local guided-filter aggregation, patchmatch slanted "
         "planes (stereo pairs only)",

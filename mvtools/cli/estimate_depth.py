@@ -35,7 +35,7 @@ from mvtools.cli.options import (
     view_option,
 )
 from mvtools.cli.progress import Progress
-from mvtools.depth.options import COST_NAMES, PAIR_METHOD, DepthOptions
+from mvtools.depth.options import COST_NAMES, DEFAULT_METHOD, DepthOptions
 from mvtools.errors import UsageError
 from mvtools.io.loaded_config import command_line_input, load_config
 from mvtools.params import DersParams
@@ -258,7 +258,7 @@ def command(
         LOG.info("wrote %s and %s", outputs["depth"], outputs["sidecar"])
         return
     # --method, the Method key of DERS mode, chooses the method of this mode too
-    method = options.pop("method") or PAIR_METHOD
+    method = options.pop("method") or DEFAULT_METHOD
     ders_given = [
         f"--{name.replace('_', '-')}" for name, value in options.items() if value is not None
     ]

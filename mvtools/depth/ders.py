@@ -63,6 +63,7 @@ from mvtools.depth import METHODS
 from mvtools.depth.bp import bp_strips
 from mvtools.depth.graphcut import graphcut_levels
 from mvtools.depth.local import LevelSlices, local_levels, soft_segment_aggregate
+from mvtools.depth.options import DEFAULT_METHOD
 from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
 from mvtools.depth.planesweep import plane_sweep_cost, sweep_homographies
@@ -148,7 +149,7 @@ class DersEstimator:
         center: Camera,
         neighbours: Sequence[Neighbour],
         *,
-        method: str = "sgm",
+        method: str = DEFAULT_METHOD,
     ):
         if not neighbours:
             raise ValueError("depth estimation needs a left or a right neighbour")

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from mvtools.depth.options import PAIR_METHOD, VIEWS_METHOD, DepthOptions
+from mvtools.depth.options import DEFAULT_METHOD, DepthOptions
 from mvtools.errors import ConfigError, DataError, UsageError, at_fault
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import DepthCoding
@@ -153,7 +153,7 @@ def estimate_depth_video(
     from mvtools.depth.ders import DersEstimator
 
     depth_format = writer.format
-    estimator = DersEstimator(options, center, neighbours, method=options.method or VIEWS_METHOD)
+    estimator = DersEstimator(options, center, neighbours, method=options.method or DEFAULT_METHOD)
     coding = DepthCoding(estimator.depth_range, depth_format.bits, depth_type=options.depth_type)
     znear, zfar = estimator.depth_range
     for reader in views:
@@ -447,7 +447,7 @@ def estimate_pair_disparity(
     options : DepthOptions
         The disparities searched are ``minimum_value_of_disparity_search_range`` to
         ``maximum_value_of_disparity_search_range``; the method (default
-        :data:`mvtools.depth.options.PAIR_METHOD`), ``cost``, ``subpixel``,
+        :data:`mvtools.depth.options.DEFAULT_METHOD`), ``cost``, ``subpixel``,
         ``segment_planes``, ``segmentation`` and ``view`` are read too.
     output : path, optional
         Write the map as PFM (float pixels, ``inf`` where unknown, as Middlebury stores
@@ -492,7 +492,7 @@ def estimate_pair_disparity(
         )
     height, width = left_rgb.shape[:2]
     name = names[options.view]
-    method = options.method or PAIR_METHOD
+    method = options.method or DEFAULT_METHOD
     LOG.info(
         "%s: %dx%d, disparities %d..%d, method %s, cost %s",
         f"the {options.view} picture" if isinstance(name, np.ndarray) else name,
