@@ -349,8 +349,12 @@ def _sweep_along_rows(
                 colour = 0.0
                 for c in range(3):
                     top = image[v0, u0, c] + fu * (image[v0, u1, c] - image[v0, u0, c])
-                    bottom = image[v1, u0, c] + fu * (image[v1, u1, c] - image[v1, u0, c])
-                    colour += abs(center[y, x, c] - (top + fv * (bottom - top)))
+                    # on a row of the neighbour (fv 0, every row but the last) the row
+                    # below adds exactly nothing: not read
+                    if fv != 0.0:
+                        bottom = image[v1, u0, c] + fu * (image[v1, u1, c] - image[v1, u0, c])
+                        top = top + fv * (bottom - top)
+                    colour += abs(center[y, x, c] - top)
                 column = min(max(int(np.rint(u * steps_x)), 0), (width - 1) * steps_x)
                 signature = census[row_phase, column % steps_x, row_index, column // steps_x]
                 value = (
