@@ -118,16 +118,18 @@ def segment_image(
     rows, cols = colour.shape[:2]
     index = np.arange(rows * cols, dtype=np.int32).reshape(rows, cols)
     # right, down, down-right and down-left neighbours: each 8-connected edge once
-    pairs = [
-        (index[:, :-1], index[:, 1:]),
-        (index[:-1, :], index[1:, :]),
-        (index[:-1, :-1], index[1:, 1:]),
-        (index[:-1, 1:], index[1:, :-1]),
+    ends = [
+        (np.s_[:, :-1], np.s_[:, 1:]),
+        (np.s_[:-1, :], np.s_[1:, :]),
+        (np.s_[:-1, :-1], np.s_[1:, 1:]),
+        (np.s_[:-1, 1:], np.s_[1:, :-1]),
     ]
-    first = np.concatenate([a.ravel() for a, _ in pairs])
-    second = np.concatenate([b.ravel() for _, b in pairs])
-    flat = colour.reshape(rows * cols, -1)
-    weight = np.sqrt(((flat[first] - flat[second]) ** 2).sum(axis=1))
+    first = np.concatenate([index[a].ravel() for a, _ in ends])
+    second = np.concatenate([index[b].ravel() for _, b in ends])
+    # colour distances from shifted views of the image, not gathered copies of it per edge
+    weight = np.concatenate(
+        [np.sqrt(((colour[a] - colour[b]) ** 2).sum(axis=2)).ravel() for a, b in ends]
+    )
     # the edges in merge order, read one after the other
     order = _stable_order(np.ascontiguousarray(weight, np.float32))
     return _felzenszwalb(
