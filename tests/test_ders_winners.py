@@ -1,6 +1,7 @@
 """The DERS mode's winners taken a few levels at a time (issue 20): the center's level and
 each rectified neighbour's own level from a method's volume given in chunks of levels are
-those of the whole volume (``_winners``) bit for bit, and the ``local`` and ``graphcut``
+those of the whole volume bit for bit (sgm's ``winner_takes_all``, and the neighbours' rule
+written out here in numpy), and the ``local`` and ``graphcut``
 methods give their volumes in such chunks without holding them."""
 
 from __future__ import annotations
@@ -12,6 +13,22 @@ from scipy import ndimage
 from mvtools.depth.ders import _levelwise_winners, _scaled_levels, _winners
 from mvtools.depth.graphcut import graphcut_levels, graphcut_volume
 from mvtools.depth.local import local_levels, local_volume
+from mvtools.depth.sgm import winner_takes_all
+
+
+def _own_levels(volume, shift):
+    # a rectified neighbour's pixel x takes the first level k whose center pixel
+    # x - shift[k] (rounded half up, inside the picture) costs least; -1 if none is inside
+    rows, cols, levels = volume.shape
+    best = np.full((rows, cols), np.inf, np.float32)
+    own = np.full((rows, cols), -1, np.int64)
+    for k in range(levels):
+        source = np.floor(np.arange(cols) - shift[k] + 0.5).astype(np.int64)
+        inside = (source >= 0) & (source < cols)
+        values = np.where(inside, volume[:, np.clip(source, 0, cols - 1), k], np.inf)
+        better = values < best
+        best[better], own[better] = values[better], k
+    return own
 
 
 def _chunks(volume, sizes):
@@ -49,6 +66,9 @@ def test_levelwise_winners_of_a_hand_volume(sizes):
     assert np.array_equal(whole_level, _HAND_LEVEL)
     for theirs, expected in zip(whole_own, _HAND_OWN):
         assert np.array_equal(theirs, expected)
+    assert np.array_equal(winner_takes_all(_HAND_VOLUME), _HAND_LEVEL)
+    for shift, expected in zip(_HAND_SHIFTS, _HAND_OWN):
+        assert np.array_equal(_own_levels(_HAND_VOLUME, shift), expected)
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -66,7 +86,8 @@ def test_levelwise_winners_are_those_of_the_whole_volume(seed):
         -np.linspace(-2.0, 7.0, levels),
         generator.uniform(-40, 40, levels),
     ]
-    expected_level, expected_own = _winners(volume, shifts)
+    expected_level = winner_takes_all(volume)
+    expected_own = [_own_levels(volume, shift) for shift in shifts]
     for sizes in _partitions(levels, seed):
         level, own = _levelwise_winners(_chunks(volume, sizes), (rows, cols), levels, shifts)
         assert np.array_equal(level, expected_level)

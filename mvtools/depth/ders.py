@@ -68,7 +68,7 @@ from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
 from mvtools.depth.planesweep import plane_sweep_cost, sweep_homographies
 from mvtools.depth.refine import fill_invalid
-from mvtools.depth.sgm import sgm_strips, winner_takes_all
+from mvtools.depth.sgm import sgm_strips
 from mvtools.geometry.camera import Camera
 from mvtools.geometry.depth import depth_sign, ders_depth_range, facing_camera
 from mvtools.params import DersParams
@@ -431,9 +431,8 @@ def _rectified_shifts(
 
 def _winners(volume: np.ndarray, shifts: list[np.ndarray]) -> tuple[np.ndarray, list]:
     """The center's sub-pixel winning level, and each rectified neighbour's own winning
-    plane (:func:`_neighbour_levels`), from one volume."""
-    volume = np.ascontiguousarray(volume, np.float32)
-    return winner_takes_all(volume), [_neighbour_levels(volume, shift) for shift in shifts]
+    plane, from one volume: :func:`_levelwise_winners` of all its levels at once."""
+    return _levelwise_winners([(0, volume)], volume.shape[:2], volume.shape[2], shifts)
 
 
 def _streamed_winners(strips, shifts: list[np.ndarray]):
@@ -443,9 +442,10 @@ def _streamed_winners(strips, shifts: list[np.ndarray]):
     own row."""
     level, own = [], [[] for _ in shifts]
     for _, strip in strips:
-        level.append(winner_takes_all(strip))
-        for levels, shift in zip(own, shifts):
-            levels.append(_neighbour_levels(strip, shift))
+        strip_level, strip_own = _winners(strip, shifts)
+        level.append(strip_level)
+        for levels, theirs in zip(own, strip_own):
+            levels.append(theirs)
     return np.concatenate(level), [np.concatenate(levels) for levels in own]
 
 
@@ -497,10 +497,9 @@ def _add_levels(chunk, start, best, best_cost, below, above, last, shifts, neigh
     # Levels start, start + 1, ... of the volume into the running winners. The center
     # keeps, as winner_takes_all reads them, its first level of least cost and the costs
     # of the levels either side of it (below: the level before it, kept when it wins;
-    # above: the level after it, met next). A neighbour pixel x keeps, as
-    # _neighbour_levels does, the level whose center pixel x - shift (rounded half up)
-    # costs least, the first such; the inf it starts from is never strictly beaten by
-    # a NaN, as there.
+    # above: the level after it, met next). A neighbour pixel x keeps the level whose
+    # center pixel x - shift (rounded half up) costs least, the first such; the inf it
+    # starts from is never strictly beaten by a NaN.
     rows, cols, count = chunk.shape
     for y in prange(rows):
         for x in range(cols):
@@ -554,31 +553,13 @@ def _confirmed_by_a_neighbour(
     """Pixels whose plane a rectified neighbour's own choice confirms (the left-right
     check of the stereo-pair mode, from the same volume): the neighbour's pixel where the
     center pixel's point lands takes, of all planes, the one whose center pixel costs
-    least (:func:`_neighbour_levels`), and that plane lies within a pixel of shift of
+    least (:func:`_levelwise_winners`), and that plane lies within a pixel of shift of
     the center's. With two neighbours one that confirms is enough: a point hidden from
     one side is seen from the other (DERS's occlusion rule)."""
     consistent = np.zeros(chosen.shape, bool)
     for levels, shift in zip(own, shifts):
         consistent |= _confirmed(chosen, levels, shift)
     return consistent
-
-
-@njit(cache=True, nogil=True, parallel=True, error_model="numpy")
-def _neighbour_levels(volume, shift):
-    """For each pixel of a rectified neighbour, the plane whose center pixel (the one
-    whose point at that plane lands on it, ``x = x_neighbour - shift``, rounded) costs
-    least; -1 where no plane's center pixel is inside the picture."""
-    rows, cols, levels = volume.shape
-    own = np.full((rows, cols), -1, np.int64)
-    for y in prange(rows):
-        for x in range(cols):
-            best_cost = np.inf
-            for k in range(levels):
-                source = int(np.floor(x - shift[k] + 0.5))
-                if 0 <= source < cols and volume[y, source, k] < best_cost:
-                    best_cost = volume[y, source, k]
-                    own[y, x] = k
-    return own
 
 
 def _confirmed(chosen: np.ndarray, own: np.ndarray, shift: np.ndarray) -> np.ndarray:
