@@ -145,3 +145,27 @@ def test_method_levels_are_the_method_volume(monkeypatch, method, chunk_bytes):
     )
     assert np.array_equal(np.concatenate([chunk for _, chunk in chunks], axis=2), expected)
     assert np.array_equal(costs, before)
+
+
+@pytest.mark.parametrize("step", [0.25, 0.5, 1.0, 1.37, 4.0, 8.0])
+def test_bp_charges_its_smoothness_per_pixel_of_disparity(step):
+    from mvtools.depth.bp import SMOOTHING, TRUNCATION
+    from mvtools.depth.ders import _smoothness_in_pixels
+
+    options = _smoothness_in_pixels("bp", step)
+    assert options["truncation"] >= 1  # belief_propagation's lower limit
+    # bp's pairwise term per level difference k, against w min(|disparity change|, T)
+    for k in range(0, 40):
+        per_level = options["smoothing"] * min(k, options["truncation"])
+        assert per_level == pytest.approx(SMOOTHING * min(k * step, TRUNCATION))
+    # hand-computed: quarter-pixel levels, w / 4 up to 16 levels; 8-pixel levels, Potts at w T
+    if step == 0.25:
+        assert options == {"smoothing": 4.0, "truncation": 16.0}
+    if step == 8.0:
+        assert options == {"smoothing": 64.0, "truncation": 1.0}
+
+
+def test_methods_of_another_smoothness_keep_their_own():
+    from mvtools.depth.ders import _smoothness_in_pixels
+
+    assert _smoothness_in_pixels("sgm", 0.25) == {} == _smoothness_in_pixels("graphcut", 0.25)
