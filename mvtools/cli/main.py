@@ -27,6 +27,7 @@ PROGRAMS: dict[str, str] = {
     "report": "report",
     "pointcloud": "pointcloud",
     "navigate": "navigate",
+    "run": "run",
 }
 
 
@@ -79,3 +80,4 @@ inspect_cli = _standalone("inspect")
 scene_cli = _standalone("scene")
 pointcloud_cli = _standalone("pointcloud")
 navigate_cli = _standalone("navigate")
+run_cli = _standalone("run")

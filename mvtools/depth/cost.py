@@ -51,9 +51,10 @@ def _neighbour_offsets(window: tuple[int, int], step: int) -> list[tuple[int, in
 
 
 def census_transform(
-    grey: np.ndarray, *, window: tuple[int, int] = (7, 9), step: int = 1
+    grey: np.ndarray, *, window: tuple[int, int] = (7, 9), step: int = 1, tolerance: float = 0.0
 ) -> np.ndarray:
-    """Census signature of every pixel: one bit per window neighbour darker than the centre.
+    """Census signature of every pixel: one bit per window neighbour darker than the centre
+    by more than ``tolerance``.
 
     Parameters
     ----------
@@ -63,6 +64,9 @@ def census_transform(
     step : int
         Spacing of the compared neighbours (a sparse census for ``step > 1``); it must
         divide the window's half sizes, and there may be at most 64 neighbours (bits).
+    tolerance : float
+        Difference (grey units) within which a neighbour counts as no darker: a dead
+        zone that keeps values equal up to a coding's rounding from flipping bits.
 
     Returns
     -------
@@ -75,22 +79,22 @@ def census_transform(
     padded = np.pad(
         np.asarray(grey, dtype=np.float32), ((height // 2,) * 2, (width // 2,) * 2), mode="edge"
     )
-    return _census(padded, height, width, step)
+    return _census(padded, height, width, step, np.float32(tolerance))
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _census(padded, height, width, step):
+def _census(padded, height, width, step, tolerance):
     rows, cols = padded.shape[0] - height + 1, padded.shape[1] - width + 1
     ry, rx = height // 2, width // 2
     signature = np.zeros((rows, cols), np.uint64)
     for y in prange(rows):
         for x in range(cols):
-            centre = padded[y + ry, x + rx]
+            darker = padded[y + ry, x + rx] - tolerance
             bits = np.uint64(0)
             for dy in range(0, height, step):
                 for dx in range(0, width, step):
                     if dy != ry or dx != rx:
-                        bits = (bits << np.uint64(1)) | np.uint64(padded[y + dy, x + dx] < centre)
+                        bits = (bits << np.uint64(1)) | np.uint64(padded[y + dy, x + dx] < darker)
             signature[y, x] = bits
     return signature
 
@@ -334,6 +338,10 @@ def check_pair(
 #: (:func:`ad_census_cost`): the census window (height, width), the Hamming distance and
 #: colour difference at which each term reaches 1 - 1/e, the cost where nothing matches.
 CENSUS_WINDOW = (7, 9)
+#: AD-census's census tolerance (:func:`census_transform`): half a grey level, the rounding
+#: of an 8-bit coding, so that pictures through YUV 4:2:0 keep the signatures of their
+#: flat regions (see :func:`ad_census_cost`).
+CENSUS_TOLERANCE = 0.5
 LAMBDA_CENSUS = 30.0
 LAMBDA_COLOUR = 20.0
 OUTSIDE_COST = 0.7
@@ -385,8 +393,10 @@ def _ad_census_inputs(left, right, census_window, lambda_census, lambda_colour):
     # the census signatures and colours of both views, and both terms' tables
     colour_left = as_colour(left)
     colour_right = as_colour(right)
-    census_left = census_transform(colour_left.mean(axis=2), window=census_window)
-    census_right = census_transform(colour_right.mean(axis=2), window=census_window)
+    census_left, census_right = (
+        census_transform(colour.mean(axis=2), window=census_window, tolerance=CENSUS_TOLERANCE)
+        for colour in (colour_left, colour_right)
+    )
     # Both terms tabulated over their integer arguments: the Hamming distance and the
     # sum of the channels' absolute differences.
     census_table = 1.0 - np.exp(-np.arange(65) / lambda_census)

@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit, prange
 
 from mvtools.depth.cost import (
+    CENSUS_TOLERANCE,
     CENSUS_WINDOW,
     LAMBDA_CENSUS,
     LAMBDA_COLOUR,
@@ -191,7 +192,9 @@ def plane_sweep_cost(
         raise ValueError("no depth planes to sweep")
     rows, cols = center.shape[:2]
     census_table = (1.0 - np.exp(-np.arange(65) / lambda_census)).astype(np.float32)
-    center_census = census_transform(center.mean(axis=2), window=census_window)
+    center_census = census_transform(
+        center.mean(axis=2), window=census_window, tolerance=CENSUS_TOLERANCE
+    )
     # NaN until a neighbour sees the point: the kernels keep the least cost of those that do
     cost = np.full((rows, cols, inverse.size), np.nan, np.float32)
     all_homographies, sizes = [], []
@@ -271,7 +274,7 @@ def _shifted_census(
                 flags=interpolation | cv2.WARP_INVERSE_MAP,
                 borderMode=cv2.BORDER_REPLICATE,
             )
-            signatures[j, i] = census_transform(shifted, window=window)
+            signatures[j, i] = census_transform(shifted, window=window, tolerance=CENSUS_TOLERANCE)
     return signatures
 
 

@@ -1,0 +1,544 @@
+"""``mvtools run``: a pipeline's chain over a sequence as Dask tasks.
+
+A pipeline (:mod:`mvtools.io.pipeline`) becomes tasks with their dependencies, as the
+Makefile chain's targets: per camera and per chunk of frames, ``estimate-depth`` of the
+camera from its neighbours along the array (:func:`mvtools.run.depth.estimate_depth_config`)
+and ``synthesize`` of each inner camera from its neighbours' textures and estimated depth
+(:func:`mvtools.run.synthesize.synthesize_config`), each chunk's frames one task; then the
+chunks of a video concatenated, and ``evaluate`` of each synthesized view against the
+camera's own (:func:`mvtools.run.evaluate.evaluate_videos`). A chunk starts from a frame
+that the run functions estimate afresh (they re-run the warm-up frames TemporalEnhancement
+needs before a chunk's first frame), so the concatenated chunks are the bytes of one run
+over all frames, whatever the chunk size and the machines.
+
+Scheduling is Dask's (``distributed``): Dask's synchronous scheduler in this process with
+one worker, else a :class:`distributed.LocalCluster` of one single-threaded worker process
+per worker asked for, or an existing cluster's scheduler. Workers read and write the
+paths of the pipeline, which must be the same file system for all of them; every output
+is written under a temporary name by the worker that makes it and renamed when complete,
+so a task re-run after its worker died writes the same bytes over nothing partial.
+As ``make``, a task whose outputs exist and are newer than all its inputs (and whose
+upstream tasks need not run) is not run again.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import logging
+import os
+import shutil
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+from mvtools.errors import UsageError
+from mvtools.io.atomic import atomic_output
+from mvtools.io.depth_sidecar import depth_sidecar_path
+from mvtools.io.pipeline import PipelineSpec, fill
+from mvtools.io.yuv import format_from_name
+
+__all__ = ["PipelineOptions", "Task", "pipeline_tasks", "run_pipeline"]
+
+LOG = logging.getLogger(__name__)
+
+#: Folder of the output folder where the chunks of the videos are kept (for re-runs).
+CHUNKS_FOLDER = "chunks"
+
+#: ``progress(tasks_done, tasks_total, frames_done, frames_total)``
+PipelineProgress = Callable[[int, int, int, int], None]
+
+
+@dataclass(frozen=True)
+class PipelineOptions:
+    """How ``mvtools run`` runs a pipeline.
+
+    Attributes
+    ----------
+    chunk : int, optional
+        Frames per task (0: whole videos); default the pipeline's ``chunk``.
+    frames : int, optional
+        Frames to process from frame 0; default the pipeline's ``frames``, else all
+        frames of the shortest texture video.
+    workers : int, optional
+        Worker processes of the local cluster (default: one per core); 1 runs the tasks
+        one after the other in this process (Dask's synchronous scheduler).
+    scheduler : str, optional
+        Address of an existing Dask scheduler (``tcp://HOST:8786``) instead.
+    """
+
+    chunk: int | None = None
+    frames: int | None = None
+    workers: int | None = None
+    scheduler: str | None = None
+
+
+@dataclass(frozen=True)
+class Task:
+    """One unit of work: ``function(*arguments)`` writes ``outputs`` from ``inputs``,
+    after the tasks ``needs`` (keys); ``frames``: the frames it makes, for progress."""
+
+    key: str
+    function: Callable
+    arguments: tuple
+    inputs: tuple[Path, ...]
+    outputs: tuple[Path, ...]
+    needs: tuple[str, ...] = ()
+    frames: int = 0
+
+
+# --------------------------------------------------------------------------- task functions
+# Module-level functions: a worker process unpickles them by name.
+
+
+def _estimate_depth(config: Path, overrides: dict, output: Path) -> str:
+    from mvtools.run.depth import estimate_depth_config
+
+    estimate_depth_config(config, overrides=overrides, output=output)
+    return os.fspath(output)
+
+
+def _synthesize(config: Path, overrides: dict, output: Path) -> str:
+    from mvtools.run.synthesize import synthesize_config
+
+    synthesize_config(config, overrides=overrides, output=output)
+    return os.fspath(output)
+
+
+def _concatenate(chunks: list[Path], output: Path) -> str:
+    """The chunks' bytes one after the other into ``output``; a depth video's sidecar
+    (Znear/Zfar, the same for every chunk) from the first chunk's."""
+    with atomic_output(output) as handle:
+        for chunk in chunks:
+            with open(chunk, "rb") as source:
+                shutil.copyfileobj(source, handle, 1 << 20)
+    sidecar = depth_sidecar_path(chunks[0])
+    if sidecar.exists():
+        with atomic_output(depth_sidecar_path(output)) as handle:
+            handle.write(sidecar.read_bytes())
+    return os.fspath(output)
+
+
+def _evaluate(reference: Path, test: Path, output: Path) -> str:
+    from mvtools.run.evaluate import evaluate_videos
+
+    scores = evaluate_videos(reference, test)
+    with atomic_output(output, "w") as handle:
+        json.dump(scores, handle, indent=2)
+        handle.write("\n")
+    return os.fspath(output)
+
+
+#: The loggers of the programs a task runs: their per-run messages (what is estimated,
+#: the depth range written) are debug detail of a pipeline, whose progress is its own.
+_PROGRAM_LOGGERS = ("mvtools.run.depth", "mvtools.run.synthesize", "mvtools.run.evaluate")
+
+
+def _call(function: Callable, arguments: tuple, *_needs):
+    # the dependencies' results come as further arguments: they only order the tasks
+    loggers = [logging.getLogger(name) for name in _PROGRAM_LOGGERS]
+    levels = [logger.level for logger in loggers]
+    if not logging.getLogger("mvtools").isEnabledFor(logging.DEBUG):
+        for logger in loggers:
+            logger.setLevel(logging.WARNING)
+    try:
+        return function(*arguments)
+    finally:
+        for logger, level in zip(loggers, levels):
+            logger.setLevel(level)
+
+
+# --------------------------------------------------------------------------- tasks
+
+
+def _frame_count(spec: PipelineSpec, frames: int | None) -> int:
+    counts = []
+    for index, view in enumerate(spec.views):
+        texture = spec.texture(index)
+        fmt = format_from_name(texture)
+        if fmt is None:
+            raise UsageError(
+                "the texture's name does not give its size and format "
+                "(NAME_WIDTHxHEIGHT_yuv420p.yuv)",
+                path=texture,
+            )
+        if not texture.is_file():
+            raise UsageError(f"no such texture video (camera {view})", path=texture)
+        counts.append(texture.stat().st_size // fmt.frame_bytes)
+    available = min(counts)
+    if available == 0:
+        raise UsageError("a texture video holds no whole frame", path=spec.texture(0))
+    if frames is not None and frames > available:
+        raise UsageError(
+            f"{frames} frames asked for, the texture videos hold {available}", key="--frames"
+        )
+    return frames or available
+
+
+def _chunked(
+    key: str,
+    function: Callable,
+    arguments: Callable[[Path, dict], tuple],
+    output: Path,
+    *,
+    frames: int,
+    chunk: int,
+    inputs: tuple[Path, ...],
+    needs: tuple[str, ...],
+    depth: bool,
+) -> list[Task]:
+    """The tasks making ``output``: one over all frames, or one per chunk of ``chunk``
+    frames (under the chunks folder) and their concatenation."""
+    ranges = (
+        [(0, frames)]
+        if chunk in (0, None) or chunk >= frames
+        else [(start, min(chunk, frames - start)) for start in range(0, frames, chunk)]
+    )
+    sidecar = (depth_sidecar_path(output),) if depth else ()
+    if len(ranges) == 1:
+        range_options = {"start_frame": 0, "total_number_of_frames": frames}
+        return [
+            Task(
+                key,
+                function,
+                arguments(output, range_options),
+                inputs,
+                (output, *sidecar),
+                needs,
+                frames,
+            )
+        ]
+    tasks = []
+    chunks = []
+    for start, count in ranges:
+        chunk_output = output.parent / CHUNKS_FOLDER / f"from{start}_{output.name}"
+        chunks.append(chunk_output)
+        chunk_sidecar = (depth_sidecar_path(chunk_output),) if depth else ()
+        tasks.append(
+            Task(
+                f"{key}:from{start}",
+                function,
+                arguments(chunk_output, {"start_frame": start, "total_number_of_frames": count}),
+                inputs,
+                (chunk_output, *chunk_sidecar),
+                needs,
+                count,
+            )
+        )
+    tasks.append(
+        Task(
+            key,
+            _concatenate,
+            (chunks, output),
+            tuple(chunks) + tuple(depth_sidecar_path(chunks[0]) for _ in sidecar),
+            (output, *sidecar),
+            tuple(task.key for task in tasks),
+        )
+    )
+    return tasks
+
+
+def pipeline_tasks(
+    spec: PipelineSpec, output_folder: str | os.PathLike, options: PipelineOptions
+) -> list[Task]:
+    """The tasks of a pipeline, in an order that runs every task after its ``needs``.
+
+    Parameters
+    ----------
+    spec : PipelineSpec
+    output_folder : path
+        Where the outputs go (the chunks in its ``chunks`` folder).
+    options : PipelineOptions
+
+    Returns
+    -------
+    list of Task
+    """
+    output_folder = Path(output_folder).absolute()
+    frames = _frame_count(spec, options.frames if options.frames is not None else spec.frames)
+    chunk = spec.chunk if options.chunk is None else options.chunk
+    views = spec.views
+    textures = [spec.texture(index).absolute() for index in range(len(views))]
+    cameras = spec.cameras.absolute()
+    tasks: list[Task] = []
+
+    def output(stage: str, index: int) -> Path:
+        return output_folder / fill(spec.stages[stage].output, index, views[index])
+
+    def neighbours(index: int) -> list[int]:
+        return [i for i in (index - 1, index + 1) if 0 <= i < len(views)]
+
+    if "estimate-depth" in spec.stages:
+        config = spec.stages["estimate-depth"].config.absolute()
+        for index, view in enumerate(views):
+            overrides = {
+                "file_camera_parameter": os.fspath(cameras),
+                "center_camera_name": view,
+                "file_center_view_image": os.fspath(textures[index]),
+            }
+            # MatchDirection: 1 the left neighbour alone, 2 the right one, 3 both
+            direction = 0
+            for side, other, bit in (("left", index - 1, 1), ("right", index + 1, 2)):
+                if 0 <= other < len(views):
+                    overrides[f"{side}_camera_name"] = views[other]
+                    overrides[f"file_{side}_view_image"] = os.fspath(textures[other])
+                    direction |= bit
+                else:
+                    overrides[f"{side}_camera_name"] = ""
+                    overrides[f"file_{side}_view_image"] = ""
+            overrides["match_direction"] = direction
+
+            def depth_arguments(target, ranged, config=config, overrides=overrides):
+                return (config, {**overrides, **ranged}, target)
+
+            tasks += _chunked(
+                f"estimate-depth:{view}",
+                _estimate_depth,
+                depth_arguments,
+                output("estimate-depth", index),
+                frames=frames,
+                chunk=chunk,
+                inputs=(config, cameras, *(textures[i] for i in (index, *neighbours(index)))),
+                needs=(),
+                depth=True,
+            )
+    if "synthesize" in spec.stages:
+        config = spec.stages["synthesize"].config.absolute()
+        for index in range(1, len(views) - 1):
+            left, right = index - 1, index + 1
+            depths = [output("estimate-depth", i) for i in (left, right)]
+            overrides = {
+                "camera_parameter_file": os.fspath(cameras),
+                "left_camera_name": views[left],
+                "virtual_camera_name": views[index],
+                "right_camera_name": views[right],
+                "left_view_image_name": os.fspath(textures[left]),
+                "right_view_image_name": os.fspath(textures[right]),
+                "left_depth_map_name": os.fspath(depths[0]),
+                "right_depth_map_name": os.fspath(depths[1]),
+            }
+
+            def synthesis_arguments(target, ranged, config=config, overrides=overrides):
+                return (config, {**overrides, **ranged}, target)
+
+            tasks += _chunked(
+                f"synthesize:{views[index]}",
+                _synthesize,
+                synthesis_arguments,
+                output("synthesize", index),
+                frames=frames,
+                chunk=chunk,
+                inputs=(config, cameras, textures[left], textures[right], *depths),
+                needs=(f"estimate-depth:{views[left]}", f"estimate-depth:{views[right]}"),
+                depth=False,
+            )
+            if "evaluate" in spec.stages:
+                synthesized = output("synthesize", index)
+                tasks.append(
+                    Task(
+                        f"evaluate:{views[index]}",
+                        _evaluate,
+                        (textures[index], synthesized, output("evaluate", index)),
+                        (textures[index], synthesized),
+                        (output("evaluate", index),),
+                        (f"synthesize:{views[index]}",),
+                    )
+                )
+    _check_outputs(tasks, output_folder)
+    return tasks
+
+
+def _check_outputs(tasks: list[Task], output_folder: Path) -> None:
+    """No two tasks write one file, and no output names an input of the pipeline."""
+    made: dict[Path, str] = {}
+    for task in tasks:
+        for path in task.outputs:
+            if path in made:
+                raise UsageError(f"two tasks ({made[path]}, {task.key}) write it", path=path)
+            made[path] = task.key
+    for task in tasks:
+        for path in task.inputs:
+            if path in made and not any(
+                path in other.outputs for other in tasks if other.key in task.needs
+            ):
+                raise UsageError(
+                    f"the output of {made[path]} would replace an input of {task.key}",
+                    path=path,
+                )
+
+
+# --------------------------------------------------------------------------- running
+
+
+def _stale(tasks: list[Task]) -> list[Task]:
+    """The tasks to run, as make decides: outputs missing or older than an input, or an
+    upstream task to run."""
+    stale: set[str] = set()
+    for task in tasks:
+        if any(need in stale for need in task.needs):
+            stale.add(task.key)
+            continue
+        try:
+            oldest = min(path.stat().st_mtime for path in task.outputs)
+        except FileNotFoundError:
+            stale.add(task.key)
+            continue
+        newest = max((path.stat().st_mtime for path in task.inputs if path.exists()), default=0)
+        if oldest < newest:
+            stale.add(task.key)
+    return [task for task in tasks if task.key in stale]
+
+
+def run_pipeline(
+    spec: PipelineSpec,
+    output_folder: str | os.PathLike,
+    options: PipelineOptions = PipelineOptions(),
+    *,
+    progress: PipelineProgress | None = None,
+) -> list[Path]:
+    """Run a pipeline's tasks (:func:`pipeline_tasks`) on Dask.
+
+    Parameters
+    ----------
+    spec : PipelineSpec
+    output_folder : path
+        An existing folder for the outputs.
+    options : PipelineOptions
+    progress : callable, optional
+        ``progress(tasks_done, tasks_total, frames_done, frames_total)`` after each task.
+
+    Returns
+    -------
+    list of Path
+        The outputs of the pipeline (made now or up to date already).
+
+    Raises
+    ------
+    UsageError, ConfigError, DataError
+        A bad pipeline or option, or the first task that failed, as its program would
+        report it. Outputs being made are not left behind half written.
+    """
+    output_folder = Path(output_folder)
+    if not output_folder.is_dir():
+        raise UsageError("no such output folder", path=output_folder)
+    tasks = pipeline_tasks(spec, output_folder, options)
+    to_run = _stale(tasks)
+    LOG.info(
+        "%d tasks, %d up to date; %d frames to make",
+        len(tasks),
+        len(tasks) - len(to_run),
+        sum(task.frames for task in to_run),
+    )
+    folders = {path.parent for task in to_run for path in task.outputs}
+    for folder in folders:
+        folder.mkdir(parents=True, exist_ok=True)
+    try:
+        if to_run:
+            _execute(to_run, options, progress)
+    finally:
+        _remove_unfinished(to_run)
+    return [path for task in tasks if ":from" not in task.key for path in task.outputs]
+
+
+def _graph(tasks: list[Task]) -> dict:
+    """The tasks as a Dask graph: ``key: (_call, function, arguments, *needs)``."""
+    keys = {task.key for task in tasks}
+    return {
+        task.key: (_call, task.function, task.arguments, *(n for n in task.needs if n in keys))
+        for task in tasks
+    }
+
+
+class _Tally:
+    def __init__(self, tasks: list[Task], progress: PipelineProgress | None):
+        self.frames = {task.key: task.frames for task in tasks}
+        self.total_frames = sum(self.frames.values())
+        self.done_tasks = 0
+        self.done_frames = 0
+        self.progress = progress
+
+    def done(self, key: str) -> None:
+        self.done_tasks += 1
+        self.done_frames += self.frames.get(key, 0)
+        LOG.debug("done: %s", key)
+        if self.progress is not None:
+            self.progress(self.done_tasks, len(self.frames), self.done_frames, self.total_frames)
+
+
+def _execute(tasks: list[Task], options: PipelineOptions, progress) -> None:
+    graph = _graph(tasks)
+    tally = _Tally(tasks, progress)
+    if options.scheduler is None and options.workers == 1:
+        import dask
+        from dask.callbacks import Callback
+
+        def posttask(key, result, dsk, state, worker_id):
+            tally.done(key)
+
+        with Callback(posttask=posttask):
+            dask.get(graph, list(graph))
+        return
+    with _client(options) as client:
+        from distributed import as_completed
+
+        futures = client.get(graph, list(graph), sync=False)
+        keys = {future.key: future for future in futures}
+        try:
+            for future in as_completed(futures):
+                if future.status == "error":
+                    future.result()  # raises the task's own error
+                tally.done(future.key)
+        except BaseException:
+            client.cancel(list(keys.values()))
+            raise
+
+
+@contextlib.contextmanager
+def _client(options: PipelineOptions) -> Iterator:
+    """A Dask client of the scheduler the options name, or of a local cluster."""
+    from distributed import Client, LocalCluster
+
+    if options.scheduler is not None:
+        start = time.perf_counter()
+        try:
+            client = Client(options.scheduler, timeout="10s")
+        except OSError as error:
+            raise UsageError(
+                f"cannot reach the scheduler at {options.scheduler}: {error}", key="--scheduler"
+            ) from None
+        LOG.info(
+            "scheduler %s: %d workers (%.1f s)",
+            options.scheduler,
+            len(client.scheduler_info()["workers"]),
+            time.perf_counter() - start,
+        )
+        with client:
+            yield client
+        return
+    workers = options.workers or os.cpu_count() or 1
+    # one single-threaded process per worker: the numba kernels' own threads would only
+    # compete with the other workers' for the cores
+    with (
+        LocalCluster(
+            n_workers=workers,
+            threads_per_worker=1,
+            processes=True,
+            dashboard_address=None,
+            silence_logs=logging.ERROR,
+            env={"NUMBA_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"},
+        ) as cluster,
+        Client(cluster) as client,
+    ):
+        LOG.info("local cluster: %d worker processes", workers)
+        yield client
+
+
+def _remove_unfinished(tasks: list[Task]) -> None:
+    """Temporary files of outputs whose writer was killed (a lost worker): the atomic
+    writes' ``.NAME.*.part``."""
+    for task in tasks:
+        for path in task.outputs:
+            for unfinished in path.parent.glob(f".{path.name}.*.part"):
+                with contextlib.suppress(FileNotFoundError):
+                    unfinished.unlink()
