@@ -183,14 +183,15 @@ class Cluster:
             )
 
     def stop(self) -> None:
-        for process in self.processes:
+        # the workers first: a worker whose scheduler is gone waits to reconnect
+        for process in reversed(self.processes):
             if process.poll() is None:
                 process.terminate()
-        for process in self.processes:
             try:
-                process.wait(timeout=30)
+                process.wait(timeout=10)
             except subprocess.TimeoutExpired:
                 process.kill()
+                process.wait()
 
 
 @pytest.fixture

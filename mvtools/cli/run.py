@@ -39,8 +39,9 @@ from mvtools.run.pipeline import PipelineOptions, run_pipeline
     "--workers",
     type=click.IntRange(min=1),
     default=None,
-    help="Worker processes of the local cluster (default: one per core); 1 runs the "
-    "tasks one after the other in this process (Dask's synchronous scheduler).",
+    help="Single-threaded workers, one core each: the processes of the local cluster "
+    "(default: one per core); 1 runs the tasks one after the other in this process "
+    "(Dask's synchronous scheduler) on one core.",
 )
 @click.option(
     "--scheduler",

@@ -1,0 +1,81 @@
+"""``mvtools run`` on a local Dask cluster against Dask's synchronous scheduler (issue 21).
+
+The sample chain (``configs/sample_line_pipeline.toml`` without its scores: the depth of
+the line's five cameras from their neighbours, the three inner cameras synthesized) over
+40 frames of the synthetic scene (``mvtools scene --frames 40 --part line``), chunks of 8
+frames: wall time of the whole ``mvtools run`` process with the local cluster (one
+single-threaded worker process per core) beside ``--workers 1`` (the tasks one after the
+other in the program's process, on one core), and the peak resident
+memory of the largest process of the run (a worker, or the program with ``--workers 1``)
+over 20 and 40 frames: flat in the number of frames.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from common import report
+
+ROOT = Path(__file__).resolve().parent.parent
+PIPELINE = ROOT / "configs" / "sample_line_pipeline.toml"
+FRAMES = 40
+CHUNK = 8
+#: Runs a command and prints the peak resident memory (KB) of its largest process: the
+#: kernel folds each reaped descendant's peak into its parent's.
+_PEAK = (
+    "import resource, subprocess, sys; subprocess.run(sys.argv[1:], check=True); "
+    "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)"
+)
+
+
+def run(pipeline: Path, out: Path, *options: str) -> tuple[float, float]:
+    """Seconds and peak MB of one ``mvtools run`` process tree."""
+    start = time.perf_counter()
+    completed = subprocess.run(
+        [sys.executable, "-c", _PEAK, sys.executable, "-m", "mvtools", "run", str(pipeline),
+         "-o", str(out), "--chunk", str(CHUNK), "-q", *options],
+        check=True, capture_output=True, text=True,
+    )  # fmt: skip
+    return time.perf_counter() - start, int(completed.stdout.split()[-1]) / 1024
+
+
+def main() -> None:
+    with tempfile.TemporaryDirectory() as folder:
+        folder = Path(folder)
+        subprocess.run(
+            [sys.executable, "-m", "mvtools", "scene", str(folder), "--frames", str(FRAMES),
+             "--part", "line", "-q"],
+            check=True,
+        )  # fmt: skip
+        pipeline = folder / "pipeline.toml"
+        text = PIPELINE.read_text().replace("../sample_data/line/", f"{folder / 'line'}/")
+        pipeline.write_text(text[: text.index("[evaluate]")])
+        # numba's kernels compiled and cached before either run is timed
+        run(pipeline, folder / "warm-up", "--workers", "1", "--frames", "1")
+        serial, serial_peak = run(pipeline, folder / "serial", "--workers", "1")
+        local, local_peak = run(pipeline, folder / "local")
+        _, half_peak = run(pipeline, folder / "half", "--frames", str(FRAMES // 2))
+        same = all(
+            (folder / "local" / video.name).read_bytes() == video.read_bytes()
+            for video in (folder / "serial").glob("*.yuv")
+        )
+        frame_tasks = FRAMES * 8  # 5 depth maps and 3 views per frame
+        report(
+            [
+                (f"sample chain {FRAMES} frames, local cluster s", local, "--workers 1", serial),
+                ("  speed-up (bar 1.7)", serial / local, "", None),
+                ("  camera-frames per second, local cluster", frame_tasks / local, "", None),
+                ("  outputs identical to --workers 1 (1 = yes)", float(same), "", None),
+                (f"peak MB of a process, {FRAMES} frames", local_peak, f"{FRAMES // 2} frames",
+                 half_peak),
+                ("peak MB of --workers 1", serial_peak, "", None),
+            ]
+        )  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()
