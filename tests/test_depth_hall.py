@@ -52,5 +52,6 @@ def test_estimated_depth_synthesizes_camera_7_as_well_as_the_shipped_depth(tmp_p
     estimated = hall_camera_7_psnr(hall, written["depth"], tmp_path / "from_estimated.yuv")
     shipped = hall_camera_7_psnr(hall, hall / "hall_D_cam05.yuv", tmp_path / "from_shipped.yuv")
     print(f"camera 7 from camera 5: estimated depth {estimated:.2f} dB, shipped {shipped:.2f} dB")
-    # measured: 34.85 against 32.29 dB (bp, 128 planes; sgm 34.91)
+    # measured: 34.54 against 32.29 dB (bp, 128 planes; 34.85 before the census tolerance;
+    # sgm 34.91 before it)
     assert estimated >= shipped

@@ -427,7 +427,7 @@ def _smoothness_in_pixels(method: str, step: float) -> dict[str, float]:
     For ``bp`` alone. Charged per level, its quarter-pixel levels made a one-pixel step
     four times dearer and cut the truncation to one pixel. Through the DERS cases of the
     Middlebury pairs (``benchmarks/bench_ders.py``, bad 1.0 %, per level and in
-    pixels): Tsukuba 2.19 and 2.46, Tsukuba 2-3-4 2.02 and 1.92, Venus 0.38 and 0.38,
+    pixels, before AD-census's census tolerance): Tsukuba 2.19 and 2.46, Tsukuba 2-3-4 2.02 and 1.92, Venus 0.38 and 0.38,
     Teddy 5.09 and 4.25, Cones 2.88 and 2.70, Art 8.69 and 7.58, Dolls 4.46 and 4.53,
     Moebius 8.71 and 8.60: a mean of 4.30 and 4.05 (at SearchLevel 1 the two are the
     same: Art 7.53). ``graphcut``, the same energy minimised otherwise, lost by it (mean
