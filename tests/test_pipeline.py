@@ -225,3 +225,27 @@ def test_a_worker_killed_mid_run_loses_and_corrupts_nothing(tmp_path, cluster, s
     assert running.returncode == 0, err
     assert cluster.workers[0].poll() is not None  # it did die mid-run
     _same_outputs(out, serial)
+
+
+def test_sigterm_stops_the_workers_and_leaves_no_temporary_file(tmp_path):
+    import psutil
+
+    out = tmp_path / "out"
+    running = subprocess.Popen(
+        [sys.executable, "-m", "mvtools", "run", str(PIPELINE), "-o", str(out),
+         "--workers", "2", "--chunk", "1"],
+        stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    deadline = time.monotonic() + PATIENCE
+    while not list(out.glob("chunks/from*.yuv")):
+        assert time.monotonic() < deadline and running.poll() is None
+        time.sleep(0.05)
+    workers = psutil.Process(running.pid).children(recursive=True)
+    running.send_signal(signal.SIGTERM)
+    _, err = running.communicate(timeout=PATIENCE)
+    assert running.returncode == 143
+    assert err.endswith("\nmvtools run: error: terminated: unfinished outputs were removed\n")
+    assert "Traceback" not in err and "Warning" not in err
+    _, alive = psutil.wait_procs(workers, timeout=10)
+    assert not alive
+    assert not list(out.rglob("*.part"))

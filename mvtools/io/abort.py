@@ -13,11 +13,12 @@ from __future__ import annotations
 import contextlib
 import os
 import subprocess
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
-#: Temporary files being written, and child programs running, in this process.
+#: Temporary files being written, child programs running, and other undoing to do.
 _UNFINISHED_FILES: set[str] = set()
 _CHILDREN: set[subprocess.Popen] = set()
+_UNDOING: list[Callable[[], None]] = []
 
 
 @contextlib.contextmanager
@@ -63,11 +64,27 @@ def run_program(command: list[str]) -> subprocess.CompletedProcess:
     return subprocess.CompletedProcess(command, child.returncode, stdout, stderr)
 
 
+@contextlib.contextmanager
+def undone_on_abort(undo: Callable[[], None]) -> Iterator[None]:
+    """Within the block, :func:`abort` calls ``undo`` (after killing the child programs,
+    before removing the unfinished files): for work this module cannot see, such as the
+    worker processes of a Dask cluster and the temporary files they write."""
+    _UNDOING.append(undo)
+    try:
+        yield
+    finally:
+        _UNDOING.remove(undo)
+
+
 def abort() -> None:
-    """Kill the running child programs and remove the unfinished temporary files."""
+    """Kill the running child programs, undo what :func:`undone_on_abort` was given, and
+    remove the unfinished temporary files."""
     for child in list(_CHILDREN):
         with contextlib.suppress(OSError):
             child.kill()
+    for undo in reversed(_UNDOING):
+        with contextlib.suppress(Exception):
+            undo()
     for name in list(_UNFINISHED_FILES):
         with contextlib.suppress(OSError):
             os.unlink(name)

@@ -28,12 +28,14 @@ import json
 import logging
 import os
 import shutil
+import sys
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 from mvtools.errors import UsageError
+from mvtools.io.abort import undone_on_abort
 from mvtools.io.atomic import atomic_output
 from mvtools.io.depth_sidecar import depth_sidecar_path
 from mvtools.io.pipeline import PipelineSpec, fill
@@ -435,8 +437,10 @@ def run_pipeline(
     for folder in folders:
         folder.mkdir(parents=True, exist_ok=True)
     try:
-        if to_run:
-            _execute(to_run, options, progress)
+        clusters: list = []  # the local cluster, once it runs
+        with undone_on_abort(lambda: _stop_workers_and_clean(clusters, to_run)):
+            if to_run:
+                _execute(to_run, options, progress, clusters)
     finally:
         _remove_unfinished(to_run)
     return [path for task in tasks if ":from" not in task.key for path in task.outputs]
@@ -467,7 +471,7 @@ class _Tally:
             self.progress(self.done_tasks, len(self.frames), self.done_frames, self.total_frames)
 
 
-def _execute(tasks: list[Task], options: PipelineOptions, progress) -> None:
+def _execute(tasks: list[Task], options: PipelineOptions, progress, clusters: list) -> None:
     graph = _graph(tasks)
     tally = _Tally(tasks, progress)
     if options.scheduler is None and options.workers == 1:
@@ -488,7 +492,7 @@ def _execute(tasks: list[Task], options: PipelineOptions, progress) -> None:
         finally:
             numba.set_num_threads(threads)
         return
-    with _client(options) as client:
+    with _client(options, clusters) as client:
         from distributed import as_completed
 
         futures = client.get(graph, list(graph), sync=False)
@@ -504,8 +508,9 @@ def _execute(tasks: list[Task], options: PipelineOptions, progress) -> None:
 
 
 @contextlib.contextmanager
-def _client(options: PipelineOptions) -> Iterator:
-    """A Dask client of the scheduler the options name, or of a local cluster."""
+def _client(options: PipelineOptions, clusters: list) -> Iterator:
+    """A Dask client of the scheduler the options name, or of a local cluster (added to
+    ``clusters`` while it runs)."""
     from distributed import Client, LocalCluster
 
     if options.scheduler is not None:
@@ -526,6 +531,9 @@ def _client(options: PipelineOptions) -> Iterator:
             yield client
         return
     workers = options.workers or os.cpu_count() or 1
+    # multiprocessing's resource tracker, which takes the -W options of this process,
+    # would warn of the semaphores it cleans up after a run stopped by a signal
+    sys.warnoptions.append("ignore::UserWarning:multiprocessing.resource_tracker")
     # One single-threaded process per worker: the numba kernels' own threads would only
     # compete with the other workers' for the cores. Without Dask's MALLOC_TRIM_THRESHOLD_
     # for the worker processes: setting it turns off glibc's adaptive mmap threshold, so
@@ -547,7 +555,27 @@ def _client(options: PipelineOptions) -> Iterator:
         Client(cluster) as client,
     ):
         LOG.info("local cluster: %d worker processes", workers)
-        yield client
+        clusters.append(cluster)
+        try:
+            yield client
+        finally:
+            clusters.remove(cluster)
+
+
+def _stop_workers_and_clean(clusters: list, tasks: list[Task]) -> None:
+    """What a signal that stops the run undoes: the local cluster's worker processes
+    (this process's children) killed, their nannies told first not to start them again,
+    then their temporary files removed."""
+    import multiprocessing
+
+    for cluster in clusters:
+        for nanny in cluster.workers.values():
+            nanny.close_gracefully()
+    for child in multiprocessing.active_children():
+        child.kill()
+    for child in multiprocessing.active_children():
+        child.join(5)
+    _remove_unfinished(tasks)
 
 
 def _remove_unfinished(tasks: list[Task]) -> None:
