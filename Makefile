@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 BUILD ?= build
 
 .DELETE_ON_ERROR:
-.PHONY: install sample demo chain navigation published test test-fast lint bench clean
+.PHONY: install sample demo chain navigation pipeline published test test-fast lint bench clean
 
 install: $(VENV)/.installed
 
@@ -186,6 +186,12 @@ $(CHAIN)/atlas.yuv: $(CORRECTED_VIEWS) $(foreach c,$(CAMS),$(call depth,$(c)))
 	$(BIN)/mvtools pack --layout atlas -o $@ \
 	    $(foreach c,$(CAMS),--view cam$(c) $(CORRECTED)/$(call texture,$(c))) \
 	    $(foreach c,$(CAMS),--depth cam$(c) $(call depth,$(c)))
+
+# The sample line's depth and synthesis as Dask tasks (`mvtools run`, docs/pipeline.md): the
+# same work as the depth and left-out-view targets above, on the sample line as rendered,
+# with a local cluster of one worker per core.
+pipeline: install
+	$(BIN)/mvtools run configs/sample_line_pipeline.toml -o $(BUILD)/pipeline
 
 # Free navigation on the line: a camera path through its five cameras, half an interval
 # beyond the outer ones, rendered from all five views (static content), scored frame by frame
