@@ -249,3 +249,43 @@ def test_sigterm_stops_the_workers_and_leaves_no_temporary_file(tmp_path):
     _, alive = psutil.wait_procs(workers, timeout=10)
     assert not alive
     assert not list(out.rglob("*.part"))
+
+
+def test_the_chain_from_the_array_as_built_gives_the_programs_bytes(tmp_path):
+    # rectify, colorcorrect, estimate-depth, synthesize, evaluate: a local cluster in chunks
+    # of one frame against the programs run one after the other over whole videos
+    out = tmp_path / "pipeline"
+    code, _, err = run(
+        "run", ROOT / "configs" / "sample_distorted_pipeline.toml", "-o", out, "--workers", "2"
+    )
+    assert code == 0, err
+    distorted = ROOT / "sample_data" / "distorted"
+    textures = [f"v{i}_texture_256x192_yuv420p.yuv" for i in range(5)]
+    rectified, corrected = tmp_path / "rectified", tmp_path / "corrected"
+    views = [("--view", f"cam{i}", distorted / name) for i, name in enumerate(textures)]
+    code, _, err = run(
+        "rectify", distorted / "cameras.txt", "-o", rectified, *(a for v in views for a in v), "-q"
+    )
+    assert code == 0, err
+    views = [("--view", f"cam{i}", rectified / name) for i, name in enumerate(textures)]
+    code, _, err = run(
+        "colorcorrect", "--reference", "cam2", "--cameras", rectified / "cameras.txt",
+        "--depth-range", "2", "13", "-o", corrected, *(a for v in views for a in v), "-q",
+    )  # fmt: skip
+    assert code == 0, err
+    for folder in (rectified, corrected):
+        made = sorted(path.name for path in folder.iterdir())
+        assert made == sorted(path.name for path in (out / folder.name).iterdir())
+        for name in made:
+            assert (folder / name).read_bytes() == (out / folder.name / name).read_bytes(), name
+    depth = tmp_path / "v2_depth_256x192_yuv420p.yuv"
+    code, _, err = run(
+        "estimate-depth", LINE / "depth_cam2.cfg", f"FileCameraParameter={rectified / 'cameras.txt'}",
+        *(f"File{side}ViewImage={corrected / textures[i]}"
+          for side, i in (("Left", 1), ("Center", 2), ("Right", 3))),
+        "-o", depth, "-q",
+    )  # fmt: skip
+    assert code == 0, err
+    assert depth.read_bytes() == (out / depth.name).read_bytes()
+    scores = json.loads((out / "v2_synthesized.scores.json").read_text())["mean"]
+    assert scores["Y-PSNR"] > 35  # measured 39.08 dB: camera 2 from its neighbours

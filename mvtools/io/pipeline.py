@@ -22,6 +22,11 @@ Makefile chain does::
     [evaluate]
     output = "v{index}_synthesized.scores.json"
 
+Before the depth, ``[rectify]`` (``output``: a folder; ``alpha``) and ``[colorcorrect]``
+(``output``: a folder; ``reference``, ``space``, ``depth-range``) may rectify the array
+and correct its colours (``configs/sample_distorted_pipeline.toml``); docs/pipeline.md
+describes every key.
+
 Paths of inputs are relative to the pipeline file's folder; outputs are names in the
 folder the run writes to. ``{index}`` is a camera's position in ``views`` and ``{name}``
 its name. Optional keys: ``frames`` (number of frames, default all of the textures').
@@ -32,7 +37,7 @@ from __future__ import annotations
 import os
 import re
 import string
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from mvtools.errors import ConfigError
@@ -46,7 +51,20 @@ except ModuleNotFoundError:  # pragma: no cover - Python 3.10
 __all__ = ["PIPELINE_STAGES", "PipelineSpec", "StageSpec", "read_pipeline"]
 
 #: The stages a pipeline may name, in the order they run.
-PIPELINE_STAGES = ("estimate-depth", "synthesize", "evaluate")
+PIPELINE_STAGES = ("rectify", "colorcorrect", "estimate-depth", "synthesize", "evaluate")
+
+#: Each stage's keys and their types; the others beside ``output`` are optional.
+_STAGE_KEYS: dict[str, dict[str, type]] = {
+    "rectify": {"output": str, "alpha": float},
+    "colorcorrect": {"output": str, "reference": str, "space": str, "depth-range": list},
+    "estimate-depth": {"config": str, "output": str},
+    "synthesize": {"config": str, "output": str},
+    "evaluate": {"output": str},
+}
+
+#: Stages whose output is a folder of the output folder, holding each camera's video under
+#: its input's name (and the camera file or tables), as the program writes them.
+FOLDER_STAGES = ("rectify", "colorcorrect")
 
 #: Fields of the names a template may hold.
 _TEMPLATE_FIELDS = {"index", "name"}
@@ -54,11 +72,13 @@ _TEMPLATE_FIELDS = {"index", "name"}
 
 @dataclass(frozen=True)
 class StageSpec:
-    """A stage of a pipeline: its configuration file (None for ``evaluate``) and the
-    template of its outputs' names."""
+    """A stage of a pipeline: its configuration file (for ``estimate-depth`` and
+    ``synthesize``), the template of its outputs' names (a folder's name for
+    :data:`FOLDER_STAGES`), and its other keys (``alpha``, ``reference`` ...)."""
 
     config: Path | None
     output: str
+    settings: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -119,14 +139,15 @@ def read_pipeline(path: str | os.PathLike) -> PipelineSpec:
                 raise ConfigError("missing", path=path, key=name)
             return None
         item = table[key]
-        if not isinstance(item, kind) or isinstance(item, bool):
+        kinds = (int, float) if kind is float else kind
+        if not isinstance(item, kinds) or isinstance(item, bool):
             raise ConfigError(
                 f"must be a {kind.__name__}, got {type(item).__name__}", path=path, key=name
             )
         return item
 
     def template(item: str, key: str, *, output: bool) -> str:
-        fields = {field for _, field, _, _ in string.Formatter().parse(item) if field is not None}
+        fields = {name for _, name, _, _ in string.Formatter().parse(item) if name is not None}
         if not fields <= _TEMPLATE_FIELDS:
             raise ConfigError(
                 f"{item!r}: unknown field {sorted(fields - _TEMPLATE_FIELDS)[0]!r}; a name "
@@ -159,7 +180,7 @@ def read_pipeline(path: str | os.PathLike) -> PipelineSpec:
         table = value(document, stage, dict, required=False)
         if table is None:
             continue
-        allowed = {"output"} if stage == "evaluate" else {"config", "output"}
+        allowed = _STAGE_KEYS[stage]
         for key in table:
             if key not in allowed:
                 raise ConfigError(
@@ -167,15 +188,45 @@ def read_pipeline(path: str | os.PathLike) -> PipelineSpec:
                     path=path,
                     key=f"{stage}.{key}",
                 )
-        config = None if stage == "evaluate" else folder / value(table, "config", str, stage)
+        config = folder / value(table, "config", str, stage) if "config" in allowed else None
         output = template(value(table, "output", str, stage), f"{stage}.output", output=True)
-        if len({fill(output, i, view) for i, view in enumerate(views)}) != len(views):
+        settings = {
+            key: value(table, key, kind, stage, required=False)
+            for key, kind in allowed.items()
+            if key not in ("config", "output") and key in table
+        }
+        if isinstance(settings.get("alpha"), int):
+            settings["alpha"] = float(settings["alpha"])
+        if "depth-range" in settings and not (
+            len(settings["depth-range"]) == 2
+            and all(
+                isinstance(x, (int, float)) and not isinstance(x, bool)
+                for x in settings["depth-range"]
+            )
+        ):
+            raise ConfigError("must be [Znear, Zfar]", path=path, key=f"{stage}.depth-range")
+        if settings.get("space", "rgb") not in ("rgb", "yuv"):
+            raise ConfigError("must be rgb or yuv", path=path, key=f"{stage}.space")
+        if settings.get("reference", views[0]) not in views:
+            raise ConfigError(
+                f"{settings['reference']!r} is not one of the views",
+                path=path,
+                key=f"{stage}.reference",
+            )
+        if stage in FOLDER_STAGES:
+            if set(string.Formatter().parse(output)) != {(output, None, None, None)}:
+                raise ConfigError(
+                    f"{output!r}: a folder's name, the same for every camera",
+                    path=path,
+                    key=f"{stage}.output",
+                )
+        elif len({fill(output, i, view) for i, view in enumerate(views)}) != len(views):
             raise ConfigError(
                 f"{output!r} gives two cameras one name: use {{index}} or {{name}}",
                 path=path,
                 key=f"{stage}.output",
             )
-        stages[stage] = StageSpec(config, output)
+        stages[stage] = StageSpec(config, output, settings)
     if "synthesize" in stages and "estimate-depth" not in stages:
         raise ConfigError(
             "synthesize reads the estimated depth: the pipeline needs [estimate-depth]",

@@ -1,7 +1,10 @@
 """``mvtools run``: a pipeline's chain over a sequence as Dask tasks.
 
 A pipeline (:mod:`mvtools.io.pipeline`) becomes tasks with their dependencies, as the
-Makefile chain's targets: per camera and per chunk of frames, ``estimate-depth`` of the
+Makefile chain's targets: per chunk of frames, the array's ``rectify`` and
+``colorcorrect`` (:func:`mvtools.run.rectify.rectify_videos`,
+:func:`mvtools.run.colorcorrect.correct_colours`, every chunk fitting its tables to frame
+0); per camera and per chunk of frames, ``estimate-depth`` of the
 camera from its neighbours along the array (:func:`mvtools.run.depth.estimate_depth_config`)
 and ``synthesize`` of each inner camera from its neighbours' textures and estimated depth
 (:func:`mvtools.run.synthesize.synthesize_config`), each chunk's frames one task; then the
@@ -109,6 +112,63 @@ def _synthesize(config: Path, overrides: dict, output: Path) -> str:
     return os.fspath(output)
 
 
+def _rectify(
+    camera_file: Path,
+    names: list[str],
+    textures: list[Path],
+    alpha: float,
+    out_dir: Path,
+    start: int,
+    count: int,
+) -> str:
+    from mvtools.io.camera_files import read_camera_file
+    from mvtools.io.cameras import get_camera
+    from mvtools.run.rectify import RectifyOptions, rectify_videos
+
+    cameras = read_camera_file(camera_file)
+    rectify_videos(
+        [get_camera(cameras, name, path=camera_file) for name in names],
+        out_dir=out_dir,
+        textures=dict(zip(names, textures)),
+        options=RectifyOptions(alpha=alpha),
+        start_frame=start,
+        frame_count=count,
+        camera_file=camera_file,
+    )
+    return os.fspath(out_dir)
+
+
+def _colorcorrect(
+    camera_file: Path,
+    names: list[str],
+    textures: list[Path],
+    settings: dict,
+    out_dir: Path,
+    start: int,
+    count: int,
+) -> str:
+    from mvtools.io.camera_files import read_camera_file
+    from mvtools.io.cameras import get_camera
+    from mvtools.run.colorcorrect import ColourCorrectionOptions, correct_colours
+
+    cameras = read_camera_file(camera_file)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    depth_range = settings.get("depth-range")
+    correct_colours(
+        dict(zip(names, textures)),
+        {name: out_dir / texture.name for name, texture in zip(names, textures)},
+        # every chunk fits its tables to frame 0, as one run over all frames does
+        ColourCorrectionOptions(
+            reference=settings.get("reference"), space=settings.get("space", "rgb"), estimate_from=0
+        ),
+        cameras={name: get_camera(cameras, name, path=camera_file) for name in names},
+        depth_range=tuple(depth_range) if depth_range is not None else None,
+        start_frame=start,
+        frame_count=count,
+    )
+    return os.fspath(out_dir)
+
+
 def _concatenate(chunks: list[Path], output: Path) -> str:
     """The chunks' bytes one after the other into ``output``; a depth video's sidecar
     (Znear/Zfar, the same for every chunk) from the first chunk's."""
@@ -179,6 +239,75 @@ def _frame_count(spec: PipelineSpec, frames: int | None) -> int:
     return frames or available
 
 
+def _ranges(frames: int, chunk: int) -> list[tuple[int, int]]:
+    """(first frame, number of frames) of each task: all frames, or chunks of ``chunk``."""
+    if chunk in (0, None) or chunk >= frames:
+        return [(0, frames)]
+    return [(start, min(chunk, frames - start)) for start in range(0, frames, chunk)]
+
+
+def _folder_stage(
+    key: str,
+    function: Callable,
+    arguments: Callable[[Path, int, int], tuple],
+    folder: Path,
+    videos: list[str],
+    copied: list[str],
+    *,
+    frames: int,
+    chunk: int,
+    inputs: tuple[Path, ...],
+    needs: tuple[str, ...],
+) -> tuple[list[Task], tuple[str, ...]]:
+    """The tasks of a program that writes every camera's video (``videos``, by name) and
+    files of the whole array (``copied``: a camera file, tables) into a folder: one over
+    all frames into ``folder``, or one per chunk into a chunk folder, then each video
+    concatenated and each of the other files, the same for every chunk, copied from the
+    first. Returns the tasks and the keys of those that make ``folder``'s files."""
+    ranges = _ranges(frames, chunk)
+    names = [*videos, *copied]
+    if len(ranges) == 1:
+        task = Task(
+            key,
+            function,
+            arguments(folder, 0, frames),
+            inputs,
+            tuple(folder / name for name in names),
+            needs,
+            frames * len(videos),
+        )
+        return [task], (key,)
+    tasks = []
+    for start, count in ranges:
+        chunk_folder = folder.parent / CHUNKS_FOLDER / f"{key}_from{start}"
+        tasks.append(
+            Task(
+                f"{key}:from{start}",
+                function,
+                arguments(chunk_folder, start, count),
+                inputs,
+                tuple(chunk_folder / name for name in names),
+                needs,
+                count * len(videos),
+            )
+        )
+    finals = []
+    for name in names:
+        makers = tasks if name in videos else tasks[:1]
+        sources = [task.outputs[names.index(name)] for task in makers]
+        finals.append(
+            Task(
+                f"{key}:{name}",
+                _concatenate,
+                (sources, folder / name),
+                tuple(sources),
+                (folder / name,),
+                tuple(task.key for task in makers),
+            )
+        )
+    return tasks + finals, tuple(task.key for task in finals)
+
+
 def _chunked(
     key: str,
     function: Callable,
@@ -193,11 +322,7 @@ def _chunked(
 ) -> list[Task]:
     """The tasks making ``output``: one over all frames, or one per chunk of ``chunk``
     frames (under the chunks folder) and their concatenation."""
-    ranges = (
-        [(0, frames)]
-        if chunk in (0, None) or chunk >= frames
-        else [(start, min(chunk, frames - start)) for start in range(0, frames, chunk)]
-    )
+    ranges = _ranges(frames, chunk)
     sidecar = (depth_sidecar_path(output),) if depth else ()
     if len(ranges) == 1:
         range_options = {"start_frame": 0, "total_number_of_frames": frames}
@@ -272,6 +397,52 @@ def pipeline_tasks(
     def neighbours(index: int) -> list[int]:
         return [i for i in (index - 1, index + 1) if 0 <= i < len(views)]
 
+    # the tasks whose outputs are the textures and the camera file the next stages read
+    upstream: tuple[str, ...] = ()
+    if "rectify" in spec.stages:
+        stage = spec.stages["rectify"]
+        folder = output_folder / stage.output
+        alpha = stage.settings.get("alpha", 0.0)
+        made, made_keys = _folder_stage(
+            "rectify",
+            _rectify,
+            lambda target, start, count, cameras=cameras, textures=textures: (
+                cameras, list(views), textures, alpha, target, start, count
+            ),
+            folder,
+            [texture.name for texture in textures],
+            ["cameras.txt"],
+            frames=frames,
+            chunk=chunk,
+            inputs=(cameras, *textures),
+            needs=upstream,
+        )  # fmt: skip
+        tasks += made
+        upstream = (*upstream, *made_keys)
+        textures = [folder / texture.name for texture in textures]
+        cameras = folder / "cameras.txt"
+    if "colorcorrect" in spec.stages:
+        stage = spec.stages["colorcorrect"]
+        folder = output_folder / stage.output
+        made, made_keys = _folder_stage(
+            "colorcorrect",
+            _colorcorrect,
+            lambda target, start, count, cameras=cameras, textures=textures, stage=stage: (
+                cameras, list(views), textures, stage.settings, target, start, count
+            ),
+            folder,
+            [texture.name for texture in textures],
+            # each view's tables (the reference's the identity)
+            [f"{view}{suffix}" for view in views for suffix in (".lut.txt", ".cube")],
+            frames=frames,
+            chunk=chunk,
+            inputs=(cameras, *textures),
+            needs=upstream,
+        )  # fmt: skip
+        tasks += made
+        upstream = (*upstream, *made_keys)
+        textures = [folder / texture.name for texture in textures]
+
     if "estimate-depth" in spec.stages:
         config = spec.stages["estimate-depth"].config.absolute()
         for index, view in enumerate(views):
@@ -303,7 +474,7 @@ def pipeline_tasks(
                 frames=frames,
                 chunk=chunk,
                 inputs=(config, cameras, *(textures[i] for i in (index, *neighbours(index)))),
-                needs=(),
+                needs=upstream,
                 depth=True,
             )
     if "synthesize" in spec.stages:
@@ -333,7 +504,11 @@ def pipeline_tasks(
                 frames=frames,
                 chunk=chunk,
                 inputs=(config, cameras, textures[left], textures[right], *depths),
-                needs=(f"estimate-depth:{views[left]}", f"estimate-depth:{views[right]}"),
+                needs=(
+                    *upstream,
+                    f"estimate-depth:{views[left]}",
+                    f"estimate-depth:{views[right]}",
+                ),
                 depth=False,
             )
             if "evaluate" in spec.stages:
@@ -345,7 +520,7 @@ def pipeline_tasks(
                         (textures[index], synthesized, output("evaluate", index)),
                         (textures[index], synthesized),
                         (output("evaluate", index),),
-                        (f"synthesize:{views[index]}",),
+                        (*upstream, f"synthesize:{views[index]}"),
                     )
                 )
     _check_outputs(tasks, output_folder)
