@@ -95,13 +95,16 @@ def test_a_second_run_makes_only_what_is_older_than_its_inputs(tmp_path, serial)
     _same_outputs(tmp_path, serial)
 
 
-def test_a_failing_task_stops_the_run_with_its_one_line_error(tmp_path):
+def _changed_pipeline(tmp_path: Path, old: str, new: str) -> Path:
+    """The sample pipeline with ``old`` replaced by ``new``, in ``tmp_path``."""
     pipeline = tmp_path / "broken.toml"
-    pipeline.write_text(
-        PIPELINE.read_text()
-        .replace('"../sample_data', f'"{ROOT}/sample_data')
-        .replace('"cam4"]', '"cam9"]')
-    )
+    text = PIPELINE.read_text().replace('"../sample_data', f'"{ROOT}/sample_data')
+    pipeline.write_text(text.replace(old, new))
+    return pipeline
+
+
+def test_a_failing_task_stops_the_run_with_its_one_line_error(tmp_path):
+    pipeline = _changed_pipeline(tmp_path, '"cam4"]', '"cam9"]')
     out = tmp_path / "out"
     code, _, err = run("run", pipeline, "-o", out, "--workers", "1", "-q")
     assert code == 2
@@ -126,12 +129,7 @@ def test_a_bad_pipeline_file_is_one_line_naming_file_line_and_key(tmp_path, text
 
 
 def test_an_output_template_must_name_each_camera_apart(tmp_path):
-    pipeline = tmp_path / "broken.toml"
-    pipeline.write_text(
-        PIPELINE.read_text()
-        .replace('"../sample_data', f'"{ROOT}/sample_data')
-        .replace('output = "v{index}_depth', 'output = "depth')
-    )
+    pipeline = _changed_pipeline(tmp_path, 'output = "v{index}_depth', 'output = "depth')
     code, _, err = run("run", pipeline, "-o", tmp_path / "out")
     assert code == 2 and "estimate-depth.output" in err and "two cameras" in err
 
@@ -208,18 +206,24 @@ def test_a_scheduler_and_two_worker_processes_give_the_serial_bytes(tmp_path, cl
     _same_outputs(out, serial)
 
 
-def test_a_worker_killed_mid_run_loses_and_corrupts_nothing(tmp_path, cluster, serial):
-    out = tmp_path / "out"
+def _started_run(out: Path, *options) -> subprocess.Popen:
+    """``mvtools run`` of the sample pipeline in chunks of one frame, once it has written
+    its first chunk (the others being made)."""
     running = subprocess.Popen(
-        [sys.executable, "-m", "mvtools", "run", str(PIPELINE), "-o", str(out),
-         "--scheduler", cluster.address, "--chunk", "1"],
+        [sys.executable, "-m", "mvtools", "run", str(PIPELINE), "-o", str(out), "--chunk", "1",
+         *options],
         stderr=subprocess.PIPE, text=True,
     )  # fmt: skip
-    # killed once the first chunk is written, while the others are being made
     deadline = time.monotonic() + PATIENCE
     while not list(out.glob("chunks/from*.yuv")):
         assert time.monotonic() < deadline and running.poll() is None
         time.sleep(0.05)
+    return running
+
+
+def test_a_worker_killed_mid_run_loses_and_corrupts_nothing(tmp_path, cluster, serial):
+    out = tmp_path / "out"
+    running = _started_run(out, "--scheduler", cluster.address)
     os.kill(cluster.workers[0].pid, signal.SIGKILL)
     _, err = running.communicate(timeout=PATIENCE)
     assert running.returncode == 0, err
@@ -231,15 +235,7 @@ def test_sigterm_stops_the_workers_and_leaves_no_temporary_file(tmp_path):
     import psutil
 
     out = tmp_path / "out"
-    running = subprocess.Popen(
-        [sys.executable, "-m", "mvtools", "run", str(PIPELINE), "-o", str(out),
-         "--workers", "2", "--chunk", "1"],
-        stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
-    deadline = time.monotonic() + PATIENCE
-    while not list(out.glob("chunks/from*.yuv")):
-        assert time.monotonic() < deadline and running.poll() is None
-        time.sleep(0.05)
+    running = _started_run(out, "--workers", "2")
     workers = psutil.Process(running.pid).children(recursive=True)
     running.send_signal(signal.SIGTERM)
     _, err = running.communicate(timeout=PATIENCE)

@@ -112,33 +112,8 @@ def _synthesize(config: Path, overrides: dict, output: Path) -> str:
     return os.fspath(output)
 
 
-def _rectify(
-    camera_file: Path,
-    names: list[str],
-    textures: list[Path],
-    alpha: float,
-    out_dir: Path,
-    start: int,
-    count: int,
-) -> str:
-    from mvtools.io.camera_files import read_camera_file
-    from mvtools.io.cameras import get_camera
-    from mvtools.run.rectify import RectifyOptions, rectify_videos
-
-    cameras = read_camera_file(camera_file)
-    rectify_videos(
-        [get_camera(cameras, name, path=camera_file) for name in names],
-        out_dir=out_dir,
-        textures=dict(zip(names, textures)),
-        options=RectifyOptions(alpha=alpha),
-        start_frame=start,
-        frame_count=count,
-        camera_file=camera_file,
-    )
-    return os.fspath(out_dir)
-
-
-def _colorcorrect(
+def _array_program(
+    program: str,
     camera_file: Path,
     names: list[str],
     textures: list[Path],
@@ -147,11 +122,28 @@ def _colorcorrect(
     start: int,
     count: int,
 ) -> str:
+    """``rectify`` or ``colorcorrect`` of the array's textures into ``out_dir``, with the
+    stage's ``settings``."""
     from mvtools.io.camera_files import read_camera_file
     from mvtools.io.cameras import get_camera
+
+    file_cameras = read_camera_file(camera_file)
+    cameras = [get_camera(file_cameras, name, path=camera_file) for name in names]
+    if program == "rectify":
+        from mvtools.run.rectify import RectifyOptions, rectify_videos
+
+        rectify_videos(
+            cameras,
+            out_dir=out_dir,
+            textures=dict(zip(names, textures)),
+            options=RectifyOptions(alpha=settings.get("alpha", 0.0)),
+            start_frame=start,
+            frame_count=count,
+            camera_file=camera_file,
+        )
+        return os.fspath(out_dir)
     from mvtools.run.colorcorrect import ColourCorrectionOptions, correct_colours
 
-    cameras = read_camera_file(camera_file)
     out_dir.mkdir(parents=True, exist_ok=True)
     depth_range = settings.get("depth-range")
     correct_colours(
@@ -161,7 +153,7 @@ def _colorcorrect(
         ColourCorrectionOptions(
             reference=settings.get("reference"), space=settings.get("space", "rgb"), estimate_from=0
         ),
-        cameras={name: get_camera(cameras, name, path=camera_file) for name in names},
+        cameras=dict(zip(names, cameras)),
         depth_range=tuple(depth_range) if depth_range is not None else None,
         start_frame=start,
         frame_count=count,
@@ -399,19 +391,27 @@ def pipeline_tasks(
 
     # the tasks whose outputs are the textures and the camera file the next stages read
     upstream: tuple[str, ...] = ()
-    if "rectify" in spec.stages:
-        stage = spec.stages["rectify"]
+    # The array's stages: a folder of every camera's texture (under its input's name) and
+    # the files of the whole array, which the next stages read: the rectified camera file,
+    # each view's colour tables (the reference's the identity).
+    for name, copied in (
+        ("rectify", ["cameras.txt"]),
+        ("colorcorrect", [f"{v}{s}" for v in views for s in (".lut.txt", ".cube")]),
+    ):
+        if name not in spec.stages:
+            continue
+        stage = spec.stages[name]
         folder = output_folder / stage.output
-        alpha = stage.settings.get("alpha", 0.0)
         made, made_keys = _folder_stage(
-            "rectify",
-            _rectify,
-            lambda target, start, count, cameras=cameras, textures=textures: (
-                cameras, list(views), textures, alpha, target, start, count
+            name,
+            _array_program,
+            lambda target, start, count, cameras=cameras, textures=textures, name=name: (
+                name, cameras, list(views), textures, spec.stages[name].settings, target,
+                start, count,
             ),
             folder,
             [texture.name for texture in textures],
-            ["cameras.txt"],
+            copied,
             frames=frames,
             chunk=chunk,
             inputs=(cameras, *textures),
@@ -420,28 +420,8 @@ def pipeline_tasks(
         tasks += made
         upstream = (*upstream, *made_keys)
         textures = [folder / texture.name for texture in textures]
-        cameras = folder / "cameras.txt"
-    if "colorcorrect" in spec.stages:
-        stage = spec.stages["colorcorrect"]
-        folder = output_folder / stage.output
-        made, made_keys = _folder_stage(
-            "colorcorrect",
-            _colorcorrect,
-            lambda target, start, count, cameras=cameras, textures=textures, stage=stage: (
-                cameras, list(views), textures, stage.settings, target, start, count
-            ),
-            folder,
-            [texture.name for texture in textures],
-            # each view's tables (the reference's the identity)
-            [f"{view}{suffix}" for view in views for suffix in (".lut.txt", ".cube")],
-            frames=frames,
-            chunk=chunk,
-            inputs=(cameras, *textures),
-            needs=upstream,
-        )  # fmt: skip
-        tasks += made
-        upstream = (*upstream, *made_keys)
-        textures = [folder / texture.name for texture in textures]
+        if name == "rectify":
+            cameras = folder / "cameras.txt"
 
     if "estimate-depth" in spec.stages:
         config = spec.stages["estimate-depth"].config.absolute()
