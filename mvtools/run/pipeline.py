@@ -27,6 +27,7 @@ upstream tasks need not run) is not run again.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import json
 import logging
 import os
@@ -82,16 +83,17 @@ class PipelineOptions:
 
 @dataclass(frozen=True)
 class Task:
-    """One unit of work: ``function(*arguments)`` writes ``outputs`` from ``inputs``,
-    after the tasks ``needs`` (keys); ``frames``: the frames it makes, for progress."""
+    """One unit of work: ``function(*arguments)`` writes ``outputs`` from ``inputs``;
+    ``frames``: the frames it makes, for progress; ``needs``: the keys of the tasks that
+    make its inputs (:func:`pipeline_tasks` finds them)."""
 
     key: str
     function: Callable
     arguments: tuple
     inputs: tuple[Path, ...]
     outputs: tuple[Path, ...]
-    needs: tuple[str, ...] = ()
     frames: int = 0
+    needs: tuple[str, ...] = ()
 
 
 # --------------------------------------------------------------------------- task functions
@@ -162,16 +164,11 @@ def _array_program(
 
 
 def _concatenate(chunks: list[Path], output: Path) -> str:
-    """The chunks' bytes one after the other into ``output``; a depth video's sidecar
-    (Znear/Zfar, the same for every chunk) from the first chunk's."""
+    """The chunks' bytes one after the other into ``output`` (one chunk: a copy)."""
     with atomic_output(output) as handle:
         for chunk in chunks:
             with open(chunk, "rb") as source:
                 shutil.copyfileobj(source, handle, 1 << 20)
-    sidecar = depth_sidecar_path(chunks[0])
-    if sidecar.exists():
-        with atomic_output(depth_sidecar_path(output)) as handle:
-            handle.write(sidecar.read_bytes())
     return os.fspath(output)
 
 
@@ -238,7 +235,7 @@ def _ranges(frames: int, chunk: int) -> list[tuple[int, int]]:
     return [(start, min(chunk, frames - start)) for start in range(0, frames, chunk)]
 
 
-def _folder_stage(
+def _chunked(
     key: str,
     function: Callable,
     arguments: Callable[[Path, int, int], tuple],
@@ -249,114 +246,35 @@ def _folder_stage(
     frames: int,
     chunk: int,
     inputs: tuple[Path, ...],
-    needs: tuple[str, ...],
-) -> tuple[list[Task], tuple[str, ...]]:
-    """The tasks of a program that writes every camera's video (``videos``, by name) and
-    files of the whole array (``copied``: a camera file, tables) into a folder: one over
-    all frames into ``folder``, or one per chunk into a chunk folder, then each video
-    concatenated and each of the other files, the same for every chunk, copied from the
-    first. Returns the tasks and the keys of those that make ``folder``'s files."""
+    chunks_folder: Path,
+) -> list[Task]:
+    """The tasks of a program that writes videos (``videos``, by name) and files that
+    are the same for every frame range (``copied``: a depth video's sidecar, a camera
+    file, colour tables) into ``folder``: ``arguments(folder, start, count)`` gives its
+    arguments over a frame range. One task over all frames into ``folder``, or one per
+    chunk of ``chunk`` frames into a folder of ``chunks_folder``, then each video
+    concatenated and each of the other files copied from the first chunk."""
     ranges = _ranges(frames, chunk)
     names = [*videos, *copied]
     if len(ranges) == 1:
-        task = Task(
-            key,
-            function,
-            arguments(folder, 0, frames),
-            inputs,
-            tuple(folder / name for name in names),
-            needs,
-            frames * len(videos),
-        )
-        return [task], (key,)
+        outputs = tuple(folder / name for name in names)
+        return [Task(key, function, arguments(folder, 0, frames), inputs, outputs, frames)]
     tasks = []
     for start, count in ranges:
-        chunk_folder = folder.parent / CHUNKS_FOLDER / f"{key}_from{start}"
+        chunk_folder = chunks_folder / f"{key.replace(':', '_')}_from{start}"
+        outputs = tuple(chunk_folder / name for name in names)
         tasks.append(
-            Task(
-                f"{key}:from{start}",
-                function,
-                arguments(chunk_folder, start, count),
-                inputs,
-                tuple(chunk_folder / name for name in names),
-                needs,
-                count * len(videos),
-            )
-        )
-    finals = []
-    for name in names:
-        makers = tasks if name in videos else tasks[:1]
-        sources = [task.outputs[names.index(name)] for task in makers]
-        finals.append(
-            Task(
-                f"{key}:{name}",
-                _concatenate,
-                (sources, folder / name),
-                tuple(sources),
-                (folder / name,),
-                tuple(task.key for task in makers),
-            )
-        )
-    return tasks + finals, tuple(task.key for task in finals)
-
-
-def _chunked(
-    key: str,
-    function: Callable,
-    arguments: Callable[[Path, dict], tuple],
-    output: Path,
-    *,
-    frames: int,
-    chunk: int,
-    inputs: tuple[Path, ...],
-    needs: tuple[str, ...],
-    depth: bool,
-) -> list[Task]:
-    """The tasks making ``output``: one over all frames, or one per chunk of ``chunk``
-    frames (under the chunks folder) and their concatenation."""
-    ranges = _ranges(frames, chunk)
-    sidecar = (depth_sidecar_path(output),) if depth else ()
-    if len(ranges) == 1:
-        range_options = {"start_frame": 0, "total_number_of_frames": frames}
-        return [
-            Task(
-                key,
-                function,
-                arguments(output, range_options),
-                inputs,
-                (output, *sidecar),
-                needs,
-                frames,
-            )
-        ]
-    tasks = []
-    chunks = []
-    for start, count in ranges:
-        chunk_output = output.parent / CHUNKS_FOLDER / f"from{start}_{output.name}"
-        chunks.append(chunk_output)
-        chunk_sidecar = (depth_sidecar_path(chunk_output),) if depth else ()
-        tasks.append(
-            Task(
-                f"{key}:from{start}",
-                function,
-                arguments(chunk_output, {"start_frame": start, "total_number_of_frames": count}),
-                inputs,
-                (chunk_output, *chunk_sidecar),
-                needs,
-                count,
-            )
-        )
-    tasks.append(
-        Task(
-            key,
-            _concatenate,
-            (chunks, output),
-            tuple(chunks) + tuple(depth_sidecar_path(chunks[0]) for _ in sidecar),
-            (output, *sidecar),
-            tuple(task.key for task in tasks),
-        )
-    )
-    return tasks
+            Task(f"{key}:from{start}", function, arguments(chunk_folder, start, count), inputs,
+                 outputs, count)
+        )  # fmt: skip
+    joined = []
+    for index, name in enumerate(names):
+        sources = [task.outputs[index] for task in (tasks if name in videos else tasks[:1])]
+        joined.append(
+            Task(f"{key}:{name}", _concatenate, (sources, folder / name), tuple(sources),
+                 (folder / name,))
+        )  # fmt: skip
+    return tasks + joined
 
 
 def pipeline_tasks(
@@ -383,14 +301,15 @@ def pipeline_tasks(
     cameras = spec.cameras.absolute()
     tasks: list[Task] = []
 
+    def chunked(key, function, arguments, folder, videos, copied, inputs) -> None:
+        tasks.extend(
+            _chunked(key, function, arguments, folder, videos, copied, frames=frames,
+                     chunk=chunk, inputs=inputs, chunks_folder=output_folder / CHUNKS_FOLDER)
+        )  # fmt: skip
+
     def output(stage: str, index: int) -> Path:
         return output_folder / fill(spec.stages[stage].output, index, views[index])
 
-    def neighbours(index: int) -> list[int]:
-        return [i for i in (index - 1, index + 1) if 0 <= i < len(views)]
-
-    # the tasks whose outputs are the textures and the camera file the next stages read
-    upstream: tuple[str, ...] = ()
     # The array's stages: a folder of every camera's texture (under its input's name) and
     # the files of the whole array, which the next stages read: the rectified camera file,
     # each view's colour tables (the reference's the identity).
@@ -400,9 +319,8 @@ def pipeline_tasks(
     ):
         if name not in spec.stages:
             continue
-        stage = spec.stages[name]
-        folder = output_folder / stage.output
-        made, made_keys = _folder_stage(
+        folder = output_folder / spec.stages[name].output
+        chunked(
             name,
             _array_program,
             lambda target, start, count, cameras=cameras, textures=textures, name=name: (
@@ -412,16 +330,14 @@ def pipeline_tasks(
             folder,
             [texture.name for texture in textures],
             copied,
-            frames=frames,
-            chunk=chunk,
-            inputs=(cameras, *textures),
-            needs=upstream,
+            (cameras, *textures),
         )  # fmt: skip
-        tasks += made
-        upstream = (*upstream, *made_keys)
         textures = [folder / texture.name for texture in textures]
         if name == "rectify":
             cameras = folder / "cameras.txt"
+
+    def ranged(overrides: dict, start: int, count: int) -> dict:
+        return {**overrides, "start_frame": start, "total_number_of_frames": count}
 
     if "estimate-depth" in spec.stages:
         config = spec.stages["estimate-depth"].config.absolute()
@@ -434,29 +350,24 @@ def pipeline_tasks(
             # MatchDirection: 1 the left neighbour alone, 2 the right one, 3 both
             direction = 0
             for side, other, bit in (("left", index - 1, 1), ("right", index + 1, 2)):
-                if 0 <= other < len(views):
-                    overrides[f"{side}_camera_name"] = views[other]
-                    overrides[f"file_{side}_view_image"] = os.fspath(textures[other])
-                    direction |= bit
-                else:
-                    overrides[f"{side}_camera_name"] = ""
-                    overrides[f"file_{side}_view_image"] = ""
+                inside = 0 <= other < len(views)
+                overrides[f"{side}_camera_name"] = views[other] if inside else ""
+                overrides[f"file_{side}_view_image"] = os.fspath(textures[other]) if inside else ""
+                direction |= bit if inside else 0
             overrides["match_direction"] = direction
-
-            def depth_arguments(target, ranged, config=config, overrides=overrides):
-                return (config, {**overrides, **ranged}, target)
-
-            tasks += _chunked(
+            depth = output("estimate-depth", index)
+            matched = [i for i in (index - 1, index, index + 1) if 0 <= i < len(views)]
+            chunked(
                 f"estimate-depth:{view}",
                 _estimate_depth,
-                depth_arguments,
-                output("estimate-depth", index),
-                frames=frames,
-                chunk=chunk,
-                inputs=(config, cameras, *(textures[i] for i in (index, *neighbours(index)))),
-                needs=upstream,
-                depth=True,
-            )
+                lambda target, start, count, overrides=overrides, name=depth.name, config=config: (
+                    config, ranged(overrides, start, count), target / name
+                ),
+                depth.parent,
+                [depth.name],
+                [depth_sidecar_path(depth).name],
+                (config, cameras, *(textures[i] for i in matched)),
+            )  # fmt: skip
     if "synthesize" in spec.stages:
         config = spec.stages["synthesize"].config.absolute()
         for index in range(1, len(views) - 1):
@@ -472,58 +383,51 @@ def pipeline_tasks(
                 "left_depth_map_name": os.fspath(depths[0]),
                 "right_depth_map_name": os.fspath(depths[1]),
             }
-
-            def synthesis_arguments(target, ranged, config=config, overrides=overrides):
-                return (config, {**overrides, **ranged}, target)
-
-            tasks += _chunked(
+            synthesized = output("synthesize", index)
+            chunked(
                 f"synthesize:{views[index]}",
                 _synthesize,
-                synthesis_arguments,
-                output("synthesize", index),
-                frames=frames,
-                chunk=chunk,
-                inputs=(config, cameras, textures[left], textures[right], *depths),
-                needs=(
-                    *upstream,
-                    f"estimate-depth:{views[left]}",
-                    f"estimate-depth:{views[right]}",
+                lambda target, start, count, overrides=overrides, name=synthesized.name, config=config: (
+                    config, ranged(overrides, start, count), target / name
                 ),
-                depth=False,
-            )
+                synthesized.parent,
+                [synthesized.name],
+                [],
+                (config, cameras, textures[left], textures[right], *depths),
+            )  # fmt: skip
             if "evaluate" in spec.stages:
-                synthesized = output("synthesize", index)
+                scores = output("evaluate", index)
                 tasks.append(
-                    Task(
-                        f"evaluate:{views[index]}",
-                        _evaluate,
-                        (textures[index], synthesized, output("evaluate", index)),
-                        (textures[index], synthesized),
-                        (output("evaluate", index),),
-                        (*upstream, f"synthesize:{views[index]}"),
-                    )
-                )
-    _check_outputs(tasks, output_folder)
-    return tasks
+                    Task(f"evaluate:{views[index]}", _evaluate,
+                         (textures[index], synthesized, scores), (textures[index], synthesized),
+                         (scores,))
+                )  # fmt: skip
+    return _with_needs(tasks)
 
 
-def _check_outputs(tasks: list[Task], output_folder: Path) -> None:
-    """No two tasks write one file, and no output names an input of the pipeline."""
-    made: dict[Path, str] = {}
+def _with_needs(tasks: list[Task]) -> list[Task]:
+    """The tasks, each with the keys of the tasks that make its inputs (tasks come in an
+    order that makes a file before reading it). No two tasks may write one file, and no
+    output may name an input of the pipeline (a file read before a task makes it)."""
+    made_by: dict[Path, str] = {}
     for task in tasks:
         for path in task.outputs:
-            if path in made:
-                raise UsageError(f"two tasks ({made[path]}, {task.key}) write it", path=path)
-            made[path] = task.key
+            if path in made_by:
+                raise UsageError(f"two tasks ({made_by[path]}, {task.key}) write it", path=path)
+            made_by[path] = task.key
+    made: set[Path] = set()
+    linked = []
     for task in tasks:
         for path in task.inputs:
-            if path in made and not any(
-                path in other.outputs for other in tasks if other.key in task.needs
-            ):
+            if path in made_by and path not in made:
                 raise UsageError(
-                    f"the output of {made[path]} would replace an input of {task.key}",
+                    f"the output of {made_by[path]} would replace an input of {task.key}",
                     path=path,
                 )
+        made.update(task.outputs)
+        needs = tuple(dict.fromkeys(made_by[path] for path in task.inputs if path in made_by))
+        linked.append(dataclasses.replace(task, needs=needs))
+    return linked
 
 
 # --------------------------------------------------------------------------- running
