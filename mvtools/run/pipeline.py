@@ -502,7 +502,8 @@ def run_pipeline(
                 _execute(to_run, options, progress, clusters)
     finally:
         _remove_unfinished(to_run)
-    return [path for task in tasks if ":from" not in task.key for path in task.outputs]
+    chunks = output_folder.absolute() / CHUNKS_FOLDER
+    return [path for task in tasks for path in task.outputs if chunks not in path.parents]
 
 
 def _graph(tasks: list[Task]) -> dict:
@@ -535,12 +536,11 @@ def _execute(tasks: list[Task], options: PipelineOptions, progress, clusters: li
     tally = _Tally(tasks, progress)
     if options.scheduler is None and options.workers == 1:
         import dask
+        import numba
         from dask.callbacks import Callback
 
         def posttask(key, result, dsk, state, worker_id):
             tally.done(key)
-
-        import numba
 
         # one worker, one core, as each worker of a cluster
         threads = numba.get_num_threads()
@@ -555,14 +555,13 @@ def _execute(tasks: list[Task], options: PipelineOptions, progress, clusters: li
         from distributed import as_completed
 
         futures = client.get(graph, list(graph), sync=False)
-        keys = {future.key: future for future in futures}
         try:
             for future in as_completed(futures):
                 if future.status == "error":
                     future.result()  # raises the task's own error
                 tally.done(future.key)
         except BaseException:
-            client.cancel(list(keys.values()))
+            client.cancel(futures)
             raise
 
 
