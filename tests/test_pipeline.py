@@ -285,3 +285,12 @@ def test_the_chain_from_the_array_as_built_gives_the_programs_bytes(tmp_path):
     assert depth.read_bytes() == (out / depth.name).read_bytes()
     scores = json.loads((out / "v2_synthesized.scores.json").read_text())["mean"]
     assert scores["Y-PSNR"] > 35  # measured 39.08 dB: camera 2 from its neighbours
+
+
+def test_an_unreachable_scheduler_is_one_line_and_leaves_nothing(tmp_path):
+    # port 9 (discard): nothing listens there; the client gives up after its 10 s
+    out = tmp_path / "made" / "out"
+    code, _, err = run("run", PIPELINE, "-o", out, "--scheduler", "tcp://127.0.0.1:9", "-q")
+    assert code == 2
+    assert err.count("\n") == 1 and "--scheduler: cannot reach the scheduler" in err
+    assert not (tmp_path / "made").exists()

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
 from mvtools.cli.options import ProgramCommand, program
@@ -75,7 +73,6 @@ def command(pipeline, output_folder, chunk, frames, workers, scheduler):
         progress.label = f"tasks {tasks_done}/{tasks_total}, frames"
         progress(frames_done, frames_total)
 
-    Path(output_folder).mkdir(parents=True, exist_ok=True)
     run_pipeline(
         spec,
         output_folder,

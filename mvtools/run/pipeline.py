@@ -465,7 +465,8 @@ def run_pipeline(
     ----------
     spec : PipelineSpec
     output_folder : path
-        An existing folder for the outputs.
+        The folder of the outputs, made if missing (and removed again if the run fails
+        before it holds any).
     options : PipelineOptions
     progress : callable, optional
         ``progress(tasks_done, tasks_total, frames_done, frames_total)`` after each task.
@@ -482,8 +483,8 @@ def run_pipeline(
         report it. Outputs being made are not left behind half written.
     """
     output_folder = Path(output_folder)
-    if not output_folder.is_dir():
-        raise UsageError("no such output folder", path=output_folder)
+    if output_folder.exists() and not output_folder.is_dir():
+        raise UsageError("is a file, not a folder", path=output_folder, key="--output")
     tasks = pipeline_tasks(spec, output_folder, options)
     to_run = _stale(tasks)
     LOG.info(
@@ -492,16 +493,24 @@ def run_pipeline(
         len(tasks) - len(to_run),
         sum(task.frames for task in to_run),
     )
-    folders = {path.parent for task in to_run for path in task.outputs}
-    for folder in folders:
-        folder.mkdir(parents=True, exist_ok=True)
+    # the folders the outputs need, made now and removed again, if still empty, when the
+    # run fails: a failed run leaves nothing behind
+    made = sorted(
+        {folder for task in to_run for path in task.outputs for folder in path.parents
+         if not folder.exists()},
+        key=lambda folder: len(folder.parts),
+    )  # fmt: skip
+    for folder in made:
+        folder.mkdir(exist_ok=True)
     try:
         clusters: list = []  # the local cluster, once it runs
-        with undone_on_abort(lambda: _stop_workers_and_clean(clusters, to_run)):
+        with undone_on_abort(lambda: _stop_workers_and_clean(clusters, to_run, made)):
             if to_run:
                 _execute(to_run, options, progress, clusters)
-    finally:
-        _remove_unfinished(to_run)
+    except BaseException:
+        _remove_unfinished(to_run, made)
+        raise
+    _remove_unfinished(to_run, [])
     chunks = output_folder.absolute() / CHUNKS_FOLDER
     return [path for task in tasks for path in task.outputs if chunks not in path.parents]
 
@@ -620,7 +629,7 @@ def _client(options: PipelineOptions, clusters: list) -> Iterator:
             clusters.remove(cluster)
 
 
-def _stop_workers_and_clean(clusters: list, tasks: list[Task]) -> None:
+def _stop_workers_and_clean(clusters: list, tasks: list[Task], folders: list[Path]) -> None:
     """What a signal that stops the run undoes: the local cluster's worker processes
     (this process's children) killed, their nannies told first not to start them again,
     then their temporary files removed."""
@@ -633,14 +642,18 @@ def _stop_workers_and_clean(clusters: list, tasks: list[Task]) -> None:
         child.kill()
     for child in multiprocessing.active_children():
         child.join(5)
-    _remove_unfinished(tasks)
+    _remove_unfinished(tasks, folders)
 
 
-def _remove_unfinished(tasks: list[Task]) -> None:
+def _remove_unfinished(tasks: list[Task], folders: list[Path]) -> None:
     """Temporary files of outputs whose writer was killed (a lost worker): the atomic
-    writes' ``.NAME.*.part``."""
+    writes' ``.NAME.*.part``; then those of ``folders`` (made by the run, parents first)
+    that are empty."""
     for task in tasks:
         for path in task.outputs:
             for unfinished in path.parent.glob(f".{path.name}.*.part"):
                 with contextlib.suppress(FileNotFoundError):
                     unfinished.unlink()
+    for folder in reversed(folders):
+        with contextlib.suppress(OSError):
+            folder.rmdir()
