@@ -336,8 +336,21 @@ def pipeline_tasks(
         if name == "rectify":
             cameras = folder / "cameras.txt"
 
-    def ranged(overrides: dict, start: int, count: int) -> dict:
-        return {**overrides, "start_frame": start, "total_number_of_frames": count}
+    def configured(key, function, config, overrides, output, copied, inputs) -> None:
+        # a program run from its configuration with ``overrides`` and a frame range
+        chunked(
+            key,
+            function,
+            lambda target, start, count: (
+                config,
+                {**overrides, "start_frame": start, "total_number_of_frames": count},
+                target / output.name,
+            ),
+            output.parent,
+            [output.name],
+            copied,
+            inputs,
+        )
 
     if "estimate-depth" in spec.stages:
         config = spec.stages["estimate-depth"].config.absolute()
@@ -357,17 +370,15 @@ def pipeline_tasks(
             overrides["match_direction"] = direction
             depth = output("estimate-depth", index)
             matched = [i for i in (index - 1, index, index + 1) if 0 <= i < len(views)]
-            chunked(
+            configured(
                 f"estimate-depth:{view}",
                 _estimate_depth,
-                lambda target, start, count, overrides=overrides, name=depth.name, config=config: (
-                    config, ranged(overrides, start, count), target / name
-                ),
-                depth.parent,
-                [depth.name],
+                config,
+                overrides,
+                depth,
                 [depth_sidecar_path(depth).name],
                 (config, cameras, *(textures[i] for i in matched)),
-            )  # fmt: skip
+            )
     if "synthesize" in spec.stages:
         config = spec.stages["synthesize"].config.absolute()
         for index in range(1, len(views) - 1):
@@ -384,17 +395,15 @@ def pipeline_tasks(
                 "right_depth_map_name": os.fspath(depths[1]),
             }
             synthesized = output("synthesize", index)
-            chunked(
+            configured(
                 f"synthesize:{views[index]}",
                 _synthesize,
-                lambda target, start, count, overrides=overrides, name=synthesized.name, config=config: (
-                    config, ranged(overrides, start, count), target / name
-                ),
-                synthesized.parent,
-                [synthesized.name],
+                config,
+                overrides,
+                synthesized,
                 [],
                 (config, cameras, textures[left], textures[right], *depths),
-            )  # fmt: skip
+            )
             if "evaluate" in spec.stages:
                 scores = output("evaluate", index)
                 tasks.append(
