@@ -44,6 +44,7 @@ from mvtools.run.depth import (
     FurtherView,
     estimate_depth_loaded,
     estimate_pair_disparity,
+    estimate_views_disparity,
 )
 
 LOG = logging.getLogger(__name__)
@@ -70,12 +71,37 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
     help="Stereo-pair mode: right picture of the pair, same size as --left.",
 )
 @click.option(
+    "--views",
+    "array_pictures",
+    default=None,
+    metavar="PICTURES",
+    help="Linear-array mode: comma-separated rectified pictures of three or more "
+    "cameras on a line, left to right (a point's x falls from one view to the next), "
+    "instead of --left/--right; the disparity of --reference is estimated from all.",
+)
+@click.option(
+    "--reference",
+    type=click.IntRange(min=1),
+    default=None,
+    metavar="K",
+    help="Linear-array mode: the view whose disparity is estimated, its place in "
+    "--views counted from 1 (default the middle one).",
+)
+@click.option(
+    "--positions",
+    default=None,
+    metavar="P1,P2,...",
+    help="Linear-array mode: each view's place on the line, comma-separated, for "
+    "unequal spacing (default 0,1,2,...); disparities are per unit of these.",
+)
+@click.option(
     "--disparities",
     "max_disparity",
     type=int,
     default=None,
     metavar="N",
-    help="Stereo-pair mode: largest disparity searched, in pixels (left x - right x; inclusive).",
+    help="Stereo-pair mode: largest disparity searched, in pixels (left x - right x; "
+    "inclusive); linear-array mode: per unit of --positions (between neighbours).",
 )
 @click.option(
     "--min-disparity",
@@ -164,6 +190,9 @@ def command(
     data_dirs,
     left,
     right,
+    array_pictures,
+    reference,
+    positions,
     max_disparity,
     min_disparity,
     views,
@@ -179,12 +208,15 @@ def command(
     transposed_rotation,
     **options,
 ):
-    """Estimate depth from a DERS configuration, or disparity from a stereo pair.
+    """Estimate depth from a DERS configuration, or disparity from a stereo pair or a
+    linear array of pictures.
 
     \b
     mvtools estimate-depth ders.cfg [Key=Value ...] [--data-dir DIR] [-o depth.yuv]
     mvtools estimate-depth --left im2.png --right im6.png --disparities 64 \\
         -o disparity.pfm --png disparity.png --png-scale 4
+    mvtools estimate-depth --views v1.png,v2.png,v3.png,v4.png,v5.png --reference 3 \\
+        --disparities 15 -o disparity.pfm
 
     DERS mode: CONFIG is a DERS configuration file, read unmodified; Key=Value items
     override it as on the DERS command line, and the options below (one per DERS key)
@@ -208,6 +240,14 @@ def command(
     evaluation, holds disparity * --png-scale with 0 for those (a true disparity that
     rounds to 0 is then read as unknown too).
 
+    Linear-array mode: the pictures of cameras on a line, rectified together, give the
+    disparity of --reference (per unit of --positions: between neighbours by default)
+    from every view jointly, as in the epipolar-plane images of "Multiview video:
+    acquisition, processing, compression, and virtual view rendering", section 1.4.3.2:
+    each other view gives it with a left-right check, which drops what that view does
+    not see, and each pixel takes the value most views agree on. Outputs as in the
+    stereo-pair mode.
+
     Exits with 2 for a bad configuration, option or missing file, 1 for inconsistent
     data (different sizes, damaged videos), leaving no output file.
     """
@@ -223,6 +263,9 @@ def command(
         "--segment-planes/--no-segment-planes": segment_planes,
         "--segmentation": segmentation,
         "--disparity-of": pair_view,
+        "--views": array_pictures,
+        "--reference": reference,
+        "--positions": positions,
     }
     if config is not None:
         given = [name for name, value in pair_options.items() if value is not None]
@@ -270,15 +313,37 @@ def command(
             f"{', '.join(ders_given + list(overrides))}: DERS options need a "
             "configuration file (CONFIG)"
         )
-    for name, value in (
-        ("--left", left),
-        ("--right", right),
-        ("--disparities", max_disparity),
-        ("-o/--output", output),
-    ):
+    if array_pictures is not None:
+        pictures = _listed("--views", array_pictures, str)
+        pair_only = {
+            "--left": left,
+            "--right": right,
+            "--subpixel/--integer": subpixel,
+            "--segmentation": segmentation,
+            "--disparity-of": pair_view,
+        }
+        given = [name for name, value in pair_only.items() if value is not None]
+        if given:
+            raise UsageError(f"{', '.join(given)}: not in the linear-array mode (--views)")
+        if len(pictures) < 3:
+            raise UsageError(f"--views needs three or more pictures, got {len(pictures)}")
+        reference = len(pictures) // 2 + 1 if reference is None else reference
+        if reference > len(pictures):
+            raise UsageError(f"--reference {reference}: --views lists {len(pictures)} pictures")
+        if positions is not None:
+            positions = _listed("--positions", positions, float)
+            if len(positions) != len(pictures):
+                raise UsageError(
+                    f"--positions gives {len(positions)} places for {len(pictures)} views"
+                )
+    elif reference is not None or positions is not None:
+        raise UsageError("--reference, --positions: only with --views (linear-array mode)")
+    required = (("--left", left), ("--right", right)) if array_pictures is None else ()
+    for name, value in (*required, ("--disparities", max_disparity), ("-o/--output", output)):
         if value is None:
             raise UsageError(
                 f"{name} is required (stereo-pair mode: --left L --right R "
+                "--disparities N -o OUT.pfm; linear-array mode: --views A,B,C,... "
                 "--disparities N -o OUT.pfm)"
             )
     pair = DepthOptions(
@@ -299,11 +364,22 @@ def command(
         )
     # The method's own limits on the range or picture size, which options can break, are
     # ValueErrors: usage errors at the programs' edge.
-    estimate_pair_disparity(
-        left,
-        right,
-        options=pair,
-        output=output,
-        png=png,
-        png_scale=DEFAULT_PNG_SCALE if png_scale is None else png_scale,
-    )
+    written = {
+        "output": output,
+        "png": png,
+        "png_scale": DEFAULT_PNG_SCALE if png_scale is None else png_scale,
+    }
+    if array_pictures is not None:
+        estimate_views_disparity(
+            pictures, reference=reference - 1, positions=positions, options=pair, **written
+        )
+        return
+    estimate_pair_disparity(left, right, options=pair, **written)
+
+
+def _listed(option: str, text: str, kind: type) -> list:
+    """The comma-separated values of ``option``, each converted by ``kind``."""
+    try:
+        return [kind(item.strip()) for item in text.split(",") if item.strip()]
+    except ValueError:
+        raise UsageError(f"{option} {text!r}: expected comma-separated numbers") from None

@@ -22,6 +22,8 @@ _EXPORTS: dict[str, str] = {
     "METHODS": "stereo",
     "PAIR_METHODS": "stereo",
     "estimate_disparity": "stereo",
+    "checked_disparity": "stereo",
+    "estimate_array_disparity": "array",
     "DersEstimator": "ders",
     "Neighbour": "ders",
     "DepthOptions": "options",

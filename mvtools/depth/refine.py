@@ -11,7 +11,6 @@ from mvtools.depth.cost import as_colour
 from mvtools.depth.segment import fill_from_planes
 
 __all__ = [
-    "clean_up",
     "fill_from_background",
     "fill_invalid",
     "left_right_consistent",
@@ -20,44 +19,6 @@ __all__ = [
     "refine_subpixel",
     "weighted_median",
 ]
-
-
-def clean_up(
-    disparity_left: np.ndarray,
-    disparity_right: np.ndarray,
-    left: np.ndarray,
-    *,
-    median_radius: int = 5,
-    median_sigma: float = 20.0,
-    median_size: int = 3,
-    segments: np.ndarray | None = None,
-) -> np.ndarray:
-    """Left-right check, then :func:`fill_invalid` of the rejected pixels.
-
-    Parameters
-    ----------
-    disparity_left, disparity_right : ndarray, shape (H, W)
-        Each view's disparities (``x_right = x_left - d``).
-    left : ndarray, shape (H, W, 3) or (H, W)
-        The left view, integer values.
-    median_radius, median_sigma, median_size, segments
-        See :func:`fill_invalid`.
-
-    Returns
-    -------
-    ndarray of float32, shape (H, W)
-        NaN only on rows without any consistent pixel.
-    """
-    valid = left_right_consistent(disparity_left, disparity_right)
-    return fill_invalid(
-        disparity_left,
-        valid,
-        left,
-        median_radius=median_radius,
-        median_sigma=median_sigma,
-        median_size=median_size,
-        segments=segments,
-    )
 
 
 def fill_invalid(

@@ -20,10 +20,10 @@ from mvtools.depth.local import local_volume
 from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.patchmatch import patchmatch_planes, plane_disparity
 from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
-from mvtools.depth.refine import clean_up, left_right_consistent, refine_subpixel
+from mvtools.depth.refine import fill_invalid, left_right_consistent, refine_subpixel
 from mvtools.depth.sgm import sgm_volume, sgm_winners, winner_takes_all
 
-__all__ = ["COSTS", "METHODS", "PAIR_METHODS", "estimate_disparity"]
+__all__ = ["COSTS", "METHODS", "PAIR_METHODS", "checked_disparity", "estimate_disparity"]
 
 #: name -> ``method(cost, guide, *, overwrite=False) -> volume``: ``cost`` of shape
 #: (H, W, D) float32, ``guide`` the view the costs belong to, (H, W, 3) float32 RGB; the
@@ -74,7 +74,7 @@ def estimate_disparity(
     Matching costs (AD-census by default), the method's optimisation, sub-pixel
     winner-takes-all in both views from the same volume, sub-pixel refinement of the
     left view by a windowed squared-difference fit, then
-    :func:`mvtools.depth.refine.clean_up` (left-right check, background fill,
+    :func:`mvtools.depth.refine.fill_invalid` of the pixels failing the left-right check (background fill,
     colour-weighted median).
 
     Parameters
@@ -191,26 +191,93 @@ def estimate_disparity(
     4590 to 1977 MB with ``patchmatch``; ``local``, which failed beyond 128 levels
     (OpenCV's channel limit), takes 1917 MB.
     """
+    # the right view is the left one of the mirrored, swapped pair, filled there as any
+    left, right = _mirrored_pair(left, right, view)
+    disparity, consistent, segments = _checked_left(
+        left,
+        right,
+        max_disparity=max_disparity,
+        min_disparity=min_disparity,
+        method=method,
+        cost=cost,
+        segment_planes=segment_planes,
+        subpixel=subpixel,
+        keep_segments=segmentation,
+    )
+    filled = fill_invalid(disparity, consistent, left, segments=segments if segmentation else None)
+    return np.ascontiguousarray(filled[:, ::-1]) if view == "right" else filled
+
+
+def checked_disparity(
+    left: np.ndarray,
+    right: np.ndarray,
+    *,
+    max_disparity: int,
+    min_disparity: int = 0,
+    method: str = "bp",
+    cost: str = "ad-census",
+    segment_planes: bool = True,
+    subpixel: bool = False,
+    view: str = "left",
+) -> tuple[np.ndarray, np.ndarray]:
+    """The disparity of one view of a rectified pair with its left-right check, before
+    :func:`estimate_disparity` fills the pixels that fail it.
+
+    Parameters
+    ----------
+    left, right, max_disparity, min_disparity, method, cost, segment_planes, subpixel, view
+        As for :func:`estimate_disparity`.
+
+    Returns
+    -------
+    disparity : ndarray of float32, shape (H, W)
+        The view's disparity, ``x_right = x_left - d``.
+    consistent : ndarray of bool, shape (H, W)
+        Pixels whose disparity the other view's confirms
+        (:func:`mvtools.depth.refine.left_right_consistent`): False where the other view
+        does not see the point (occlusion, the border) or the match is unreliable.
+    """
+    disparity, consistent, _ = _checked_left(
+        *_mirrored_pair(left, right, view),
+        max_disparity=max_disparity,
+        min_disparity=min_disparity,
+        method=method,
+        cost=cost,
+        segment_planes=segment_planes,
+        subpixel=subpixel,
+    )
+    if view == "right":
+        return np.ascontiguousarray(disparity[:, ::-1]), np.ascontiguousarray(consistent[:, ::-1])
+    return disparity, consistent
+
+
+def _mirrored_pair(left, right, view):
+    # the pair whose left view is ``view`` (the right one mirrored, or the pair itself)
+    if view not in ("left", "right"):
+        raise ValueError(f"view must be 'left' or 'right', got {view!r}")
+    if view == "left":
+        return left, right
+    return [np.ascontiguousarray(np.asarray(picture)[:, ::-1]) for picture in (right, left)]
+
+
+def _checked_left(
+    left,
+    right,
+    *,
+    max_disparity,
+    min_disparity,
+    method,
+    cost,
+    segment_planes,
+    subpixel,
+    keep_segments=False,
+):
+    # The left view's disparity, its left-right consistent pixels, and its colour
+    # segments when they were made (segment planes) or asked for.
     if method not in PAIR_METHODS:
         raise ValueError(f"{method!r} method is invalid, it must be one of {sorted(PAIR_METHODS)}")
     if cost not in COSTS:
         raise ValueError(f"{cost!r} cost is invalid, it must be one of {sorted(COSTS)}")
-    if view not in ("left", "right"):
-        raise ValueError(f"view must be 'left' or 'right', got {view!r}")
-    if view == "right":
-        mirrored = [np.ascontiguousarray(np.asarray(picture)[:, ::-1]) for picture in (right, left)]
-        return np.ascontiguousarray(
-            estimate_disparity(
-                *mirrored,
-                max_disparity=max_disparity,
-                min_disparity=min_disparity,
-                method=method,
-                cost=cost,
-                segment_planes=segment_planes,
-                segmentation=segmentation,
-                subpixel=subpixel,
-            )[:, ::-1]
-        )
     left, right = check_pair(left, right, min_disparity=min_disparity, max_disparity=max_disparity)
     levels = max_disparity - min_disparity + 1
     # Memory: one cost volume, which the method overwrites with its own where it can,
@@ -270,7 +337,7 @@ def estimate_disparity(
         disparity_left, disparity_right = np.rint(disparity_left), np.rint(disparity_right)
     elif not subpixel:
         disparity_left = np.rint(disparity_left)
-    segments = plane_segments(left) if segment_planes or segmentation else None
+    segments = plane_segments(left) if segment_planes or keep_segments else None
     if segment_planes:
         # Both views refined, then checked against each other: the right view's map is
         # the left one of the mirrored, swapped pair, whose costs are those of the pair
@@ -305,9 +372,7 @@ def estimate_disparity(
         )[:, ::-1]
         del costs
         disparity_left, disparity_right = refined_left, refined_right
-    return clean_up(
-        disparity_left, disparity_right, left, segments=segments if segmentation else None
-    )
+    return disparity_left, left_right_consistent(disparity_left, disparity_right), segments
 
 
 def _on_segment_planes(disparity, other, view, segments, cost, *, min_disparity, subpixel):

@@ -32,6 +32,7 @@ _EXPORTS: dict[str, str] = {
     "estimate_depth_video": "depth",
     "estimate_depth_config": "depth",
     "estimate_pair_disparity": "depth",
+    "estimate_views_disparity": "depth",
     "FurtherView": "depth",
     "correct_colours": "colorcorrect",
     "ColourCorrectionOptions": "colorcorrect",

@@ -5,7 +5,8 @@ neighbours' videos and cameras, frame by frame, from opened readers and a writer
 :func:`estimate_depth_config` does so for the DERS configuration a file describes, and
 :func:`estimate_depth_loaded` for a configuration already loaded, with the program's
 further views. :func:`estimate_pair_disparity` gives the disparity map of a rectified
-pair of pictures and writes it on request. The estimators
+pair of pictures and writes it on request, :func:`estimate_views_disparity` that of one
+view of a linear array of pictures. The estimators
 (:class:`mvtools.depth.ders.DersEstimator`, :func:`mvtools.depth.estimate_disparity`)
 are imported when a run starts, so this module is cheap to import.
 """
@@ -516,10 +517,102 @@ def estimate_pair_disparity(
         segmentation=options.segmentation,
         view=options.view,
     )
+    _write_disparity(disparity, outputs, png_scale, time.perf_counter() - start)
+    return disparity
+
+
+def estimate_views_disparity(
+    pictures: Sequence[np.ndarray | str | os.PathLike],
+    *,
+    reference: int,
+    options: DepthOptions,
+    positions: Sequence[float] | None = None,
+    output: str | os.PathLike | None = None,
+    png: str | os.PathLike | None = None,
+    png_scale: float = DEFAULT_PNG_SCALE,
+) -> np.ndarray:
+    """Estimate the disparity map of one view of a linear array from all its views
+    (:func:`mvtools.depth.array.estimate_array_disparity`) and write it on request.
+
+    Parameters
+    ----------
+    pictures : sequence of ndarray of shape (H, W, 3) uint8, or path
+        Rectified views on a line, left to right (a point's x falls from one view to
+        the next), or their files.
+    reference : int
+        Index in ``pictures`` of the view whose disparity is estimated.
+    options : DepthOptions
+        The disparities searched per unit of ``positions`` are
+        ``minimum_value_of_disparity_search_range`` to
+        ``maximum_value_of_disparity_search_range``; the method, ``cost`` and
+        ``segment_planes`` are read too.
+    positions : sequence of float, optional
+        The views' places on the line; by default equal steps of one.
+    output, png, png_scale
+        As for :func:`estimate_pair_disparity`.
+
+    Returns
+    -------
+    ndarray of float, shape (H, W)
+        Disparity per unit of ``positions``, NaN where unknown.
+
+    Raises
+    ------
+    UsageError, DataError, ValueError
+        As for :func:`estimate_pair_disparity`.
+    """
+    from mvtools.depth.array import estimate_array_disparity
+
+    low = options.minimum_value_of_disparity_search_range
+    high = options.maximum_value_of_disparity_search_range
+    views = [_picture(picture) for picture in pictures]
+    outputs = []
+    if output is not None:
+        outputs = _check_pair_outputs(
+            Path(output), None if png is None else Path(png), png_scale, low, high
+        )
+    for picture, view in zip(pictures, views):
+        if view.shape != views[0].shape:
+            raise DataError(
+                f"this picture is {view.shape[1]}x{view.shape[0]}, the first one "
+                f"{views[0].shape[1]}x{views[0].shape[0]}",
+                path=None if isinstance(picture, np.ndarray) else picture,
+            )
+    method = options.method or DEFAULT_METHOD
+    LOG.info(
+        "view %d of %d: %dx%d, disparities %d..%d per unit of baseline, method %s, cost %s",
+        reference + 1,
+        len(views),
+        views[0].shape[1],
+        views[0].shape[0],
+        low,
+        high,
+        method,
+        options.cost,
+    )
+    start = time.perf_counter()
+    disparity = estimate_array_disparity(
+        views,
+        reference=reference,
+        positions=positions,
+        max_disparity=high,
+        min_disparity=low,
+        method=method,
+        cost=options.cost,
+        segment_planes=options.segment_planes,
+    )
+    _write_disparity(disparity, outputs, png_scale, time.perf_counter() - start)
+    return disparity
+
+
+def _write_disparity(
+    disparity: np.ndarray, outputs: list[Path], png_scale: float, seconds: float
+) -> None:
+    """Report an estimated map and write it to the checked outputs: PFM, then PNG."""
     known = np.isfinite(disparity)
     LOG.info(
         "disparity estimated in %.2f s, %.1f %% of the pixels unknown",
-        time.perf_counter() - start,
+        seconds,
         100.0 * (1.0 - known.mean()),
     )
     if outputs:
@@ -528,7 +621,6 @@ def estimate_pair_disparity(
     if len(outputs) > 1:
         write_image(outputs[1], disparity_png_values(disparity, scale=png_scale))
         LOG.info("wrote %s (disparity * %g)", outputs[1], png_scale)
-    return disparity
 
 
 def disparity_png_values(disparity: np.ndarray, *, scale: float) -> np.ndarray:

@@ -1,0 +1,141 @@
+"""Disparity from every view of a linear array (mvtools.depth.array, issue 22): Tsukuba's
+five views against its published ground truth, and the synthetic scene rendered as a
+dense line of 17 cameras, whose disparity is exact (f * baseline / depth)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from program_runner import assert_one_line_error, run
+from shared_data import shared_data
+
+from mvtools.datasets import load_middlebury_ground_truth, score_middlebury
+from mvtools.depth import estimate_array_disparity, estimate_disparity
+from mvtools.io.images import read_image
+from mvtools.scene import default_scene, linear_rig, quantize, render, sample_intrinsics
+
+#: the dense line: 17 cameras 5 cm apart (the sample line's are 10 cm), 1.2 to 4.9
+#: pixels between neighbours over the scene
+DENSE_VIEWS = 17
+DENSE_BASELINE = 0.05
+DENSE_SIZE = (256, 192)
+
+
+def _tsukuba_views():
+    folder = shared_data("middlebury", "2001", "tsukuba")
+    return [read_image(folder / f"tsukuba{index}.png") for index in range(1, 6)]
+
+
+def _bad(disparity: np.ndarray, truth: np.ndarray) -> float:
+    return 100.0 * float(np.mean(np.abs(disparity - truth) > 1.0))
+
+
+@pytest.fixture(scope="module")
+def dense_line():
+    """The 17 views of the dense line, and the exact disparity between neighbours of
+    the middle one."""
+    width, height = DENSE_SIZE
+    K = sample_intrinsics(width, height)
+    cameras = linear_rig(DENSE_VIEWS, baseline=DENSE_BASELINE, K=K, size=DENSE_SIZE)
+    scene = default_scene()
+    renderings = [render(scene, camera) for camera in cameras]
+    middle = renderings[DENSE_VIEWS // 2]
+    assert np.isfinite(middle.depth).all()
+    truth = K[0, 0] * DENSE_BASELINE / middle.depth
+    return [quantize(rendering.color) for rendering in renderings], truth
+
+
+def _middle(views, count):
+    half = len(views) // 2
+    return views[half - count // 2 : half + count // 2 + 1]
+
+
+def test_tsukuba_five_views_beat_the_best_pair():
+    views = _tsukuba_views()
+    truth = load_middlebury_ground_truth(shared_data("middlebury"), "tsukuba")
+    pair = score_middlebury(
+        estimate_disparity(views[2], views[3], max_disparity=15), truth, "tsukuba"
+    )
+    three = score_middlebury(
+        estimate_array_disparity(views[1:4], reference=1, max_disparity=15), truth, "tsukuba"
+    )
+    five = score_middlebury(
+        estimate_array_disparity(views, reference=2, max_disparity=15), truth, "tsukuba"
+    )
+    # measured 1.56, 1.48, 1.30: each added view lowers the error
+    assert five < three < pair
+    assert five <= 1.35
+
+
+@pytest.mark.xfail(
+    strict=True,
+    reason="issue 22's bar of 1.2 % is not reached: 1.30 % with all five views (the README "
+    "and the closing note give the figures)",
+)
+def test_tsukuba_five_views_meet_the_issue_bar():
+    views = _tsukuba_views()
+    truth = load_middlebury_ground_truth(shared_data("middlebury"), "tsukuba")
+    disparity = estimate_array_disparity(views, reference=2, max_disparity=15)
+    assert score_middlebury(disparity, truth, "tsukuba") <= 1.2
+
+
+@pytest.mark.slow
+def test_dense_line_error_falls_as_views_are_added(dense_line):
+    views, truth = dense_line
+    pair = _bad(estimate_disparity(views[8], views[9], max_disparity=6), truth)
+    bad = {
+        count: _bad(
+            estimate_array_disparity(_middle(views, count), reference=count // 2, max_disparity=6),
+            truth,
+        )
+        for count in (5, 9, 17)
+    }
+    # measured: the pair 0.46, 5 views 0.35, 9 views 0.25, 17 views 0.24
+    assert bad[17] <= 0.5
+    assert bad[17] <= bad[9] <= bad[5] < pair
+
+
+def test_unequal_spacing_from_the_positions(dense_line):
+    views, truth = dense_line
+    chosen = (5, 7, 8, 9, 12)
+    disparity = estimate_array_disparity(
+        [views[index] for index in chosen], reference=2, max_disparity=6, positions=chosen
+    )
+    assert _bad(disparity, truth) <= 0.5
+    # the same views taken as equally spaced are wrong wherever depth varies
+    assumed = estimate_array_disparity(
+        [views[index] for index in chosen], reference=2, max_disparity=6
+    )
+    assert _bad(assumed, truth) > 5 * _bad(disparity, truth)
+
+
+def test_views_mode_writes_the_library_result(tmp_path):
+    folder = shared_data("middlebury", "2001", "tsukuba")
+    pictures = ",".join(str(folder / f"tsukuba{index}.png") for index in range(1, 6))
+    output = tmp_path / "disparity.pfm"
+    code, _, stderr = run(
+        "estimate-depth", "--views", pictures, "--disparities", "15", "-o", output
+    )
+    assert code == 0, stderr
+    expected = estimate_array_disparity(_tsukuba_views(), reference=2, max_disparity=15)
+    written = read_image(output)
+    assert np.array_equal(np.where(np.isfinite(expected), expected, np.inf), written)
+
+
+@pytest.mark.parametrize(
+    ("arguments", "message"),
+    [
+        (["--views", "a.png,b.png"], "--views needs three or more pictures, got 2"),
+        (["--views", "a.png,b.png,c.png", "--reference", "4"], "--reference 4"),
+        (["--views", "a.png,b.png,c.png", "--positions", "0,1"], "--positions gives 2 places"),
+        (["--views", "a.png,b.png,c.png", "--left", "a.png"], "--left: not in the linear-array"),
+        (["--left", "a.png", "--right", "b.png", "--reference", "2"], "only with --views"),
+    ],
+)
+def test_views_mode_usage_errors(tmp_path, arguments, message):
+    code, _, stderr = run(
+        "estimate-depth", *arguments, "--disparities", "15", "-o", tmp_path / "d.pfm"
+    )
+    assert code == 2
+    assert_one_line_error(stderr, message)
+    assert list(tmp_path.iterdir()) == []
