@@ -74,8 +74,8 @@ def estimate_disparity(
     Matching costs (AD-census by default), the method's optimisation, sub-pixel
     winner-takes-all in both views from the same volume, sub-pixel refinement of the
     left view by a windowed squared-difference fit, then
-    :func:`mvtools.depth.refine.fill_invalid` of the pixels failing the left-right check (background fill,
-    colour-weighted median).
+    :func:`mvtools.depth.refine.fill_invalid` of the pixels failing the left-right check
+    (background fill, colour-weighted median).
 
     Parameters
     ----------
@@ -191,7 +191,7 @@ def estimate_disparity(
     4590 to 1977 MB with ``patchmatch``; ``local``, which failed beyond 128 levels
     (OpenCV's channel limit), takes 1917 MB.
     """
-    # the right view is the left one of the mirrored, swapped pair, filled there as any
+    # the right view is the left one of the mirrored, swapped pair, and is filled there
     left, right = _mirrored_pair(left, right, view)
     disparity, consistent, segments = _checked_left(
         left,
