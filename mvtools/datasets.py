@@ -5,6 +5,7 @@ the benchmarks, so that every one of them scores a set the same way."""
 from __future__ import annotations
 
 import os
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -444,6 +445,7 @@ def write_middlebury_ders_case(
     folder: str | os.PathLike,
     *,
     left_view: str | None = None,
+    further_views: Sequence[tuple[str, float]] = (),
     **settings,
 ) -> Path:
     """Write a published pair as the files of a DERS run: the depth of its left picture.
@@ -470,6 +472,11 @@ def write_middlebury_ders_case(
         Existing folder.
     left_view : str, optional
         Path (relative to ``root``) of a left neighbour's picture.
+    further_views : sequence of (str, float)
+        Pictures (relative to ``root``) of further cameras on the line and their
+        places in baselines (Tsukuba's ``2001/tsukuba/tsukuba1.png`` at -2): each
+        camera is named after its picture's stem, in the camera file, and its video is
+        ``STEM_WxH_yuv420p.yuv``, for ``--view STEM VIDEO``.
     **settings
         :class:`mvtools.params.DersParams` fields overriding the case's (``method``,
         ``image_segmentation`` ...).
@@ -488,6 +495,10 @@ def write_middlebury_ders_case(
     pictures = {"center": Path(root) / entry.left, "right": Path(root) / entry.right}
     if left_view is not None:
         pictures["left"] = Path(root) / left_view
+    positions = {"left": -DERS_CASE_BASELINE, "center": 0.0, "right": DERS_CASE_BASELINE}
+    for picture, place in further_views:
+        pictures[Path(picture).stem] = Path(root) / picture
+        positions[Path(picture).stem] = place * DERS_CASE_BASELINE
     images = {side: read_image(path) for side, path in pictures.items()}
     height, width = images["center"].shape[:2]
     K = [
@@ -495,7 +506,6 @@ def write_middlebury_ders_case(
         [0.0, DERS_CASE_FOCAL, (height - 1) / 2],
         [0, 0, 1],
     ]
-    positions = {"left": -DERS_CASE_BASELINE, "center": 0.0, "right": DERS_CASE_BASELINE}
     cameras = [
         Camera(side, K, t=[positions[side], 0.0, 0.0], size=(width, height)) for side in images
     ]

@@ -25,7 +25,7 @@ import os
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-from mvtools.depth.options import DEFAULT_METHOD
+from mvtools.depth.options import DEFAULT_METHOD, VIEW_COMBINATIONS
 from mvtools.geometry.depth import check_depth_range, depth_sign
 
 
@@ -626,6 +626,15 @@ class DersParams(_ProgramParams):
         "graphcut alpha-expansion, local guided-filter aggregation, patchmatch slanted "
         "planes (stereo pairs only)",
         choices=DEPTH_METHODS,
+    )
+    view_combination: str = _param(
+        "ViewCombination",
+        "least-cost",
+        "how the neighbours combine (mvtools extension): least-cost: per depth the least "
+        "cost of the views that see the point, one sweep (DERS); vote: each neighbour's "
+        "own depth with its left-right check, each pixel the depth most neighbours agree "
+        "on (for dense camera lines)",
+        choices=VIEW_COMBINATIONS,
     )
 
     def _check_consistency(self) -> None:

@@ -583,7 +583,7 @@ def test_option_values_become_command_line_entries():
 
 def test_param_specs_metadata():
     specs = {spec.key: spec for spec in param_specs(VsrsParams)}
-    assert len(specs) == 34 and len(param_specs(DersParams)) == 49
+    assert len(specs) == 34 and len(param_specs(DersParams)) == 50
     precision = specs["Precision"]
     assert (precision.name, precision.type, precision.default, precision.choices) == (
         "precision",

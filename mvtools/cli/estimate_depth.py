@@ -111,14 +111,16 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
 )
 @view_option(
     "DERS mode: a further neighbour (repeatable): the texture video of camera NAME of "
-    "the camera file, matched in the plane sweep besides the left and right views of "
-    "the configuration."
+    "the camera file, matched besides the left and right views of the configuration "
+    "(in the plane sweep, or on its own with --view-combination vote)."
 )
 @click.option(
     "--subpixel/--integer",
     default=None,
     help="Stereo-pair mode: sub-pixel disparities, or the integer levels "
-    "(default), which score better on Middlebury's bad 1.0.",
+    "(default), which score better on Middlebury's bad 1.0; linear-array mode: the "
+    "mean of the views that agree, weighted by their squared baselines, or the value "
+    "agreed on (default).",
 )
 @click.option(
     "--cost",
@@ -227,7 +229,10 @@ def command(
     view, SearchLevel steps per pixel) or from NearestSearchDepthValue,
     FarthestSearchDepthValue and NumberOfDepthSteps; any camera layout, and any number
     of further views with --view (the least cost of the views that see a point
-    counts, DERS's occlusion rule). The output holds
+    counts, DERS's occlusion rule; or, with ViewCombination vote, each view gives the
+    depth on its own with its left-right check and each pixel takes the depth most
+    views agree on, the linear-array mode's rule, better for a line of cameras). The
+    output holds
     MinimumValueOfDisparityRange..MaximumValueOfDisparityRange as 0..255, or
     FarthestDepthValue..NearestDepthValue when those are given; the Znear/Zfar this
     means are printed and written to OUTPUT.json. Frames: StartFrame,
@@ -245,8 +250,8 @@ def command(
     from every view jointly, as in the epipolar-plane images of "Multiview video:
     acquisition, processing, compression, and virtual view rendering", section 1.4.3.2:
     each other view gives it with a left-right check, which drops what that view does
-    not see, and each pixel takes the value most views agree on. Outputs as in the
-    stereo-pair mode.
+    not see, and each pixel takes the value most views agree on (--subpixel: their
+    mean, weighted by the squared baselines). Outputs as in the stereo-pair mode.
 
     Exits with 2 for a bad configuration, option or missing file, 1 for inconsistent
     data (different sizes, damaged videos), leaving no output file.
@@ -318,7 +323,6 @@ def command(
         pair_only = {
             "--left": left,
             "--right": right,
-            "--subpixel/--integer": subpixel,
             "--segmentation": segmentation,
             "--disparity-of": pair_view,
         }

@@ -29,7 +29,7 @@ import numpy as np
 from mvtools.depth.refine import fill_invalid
 from mvtools.depth.stereo import checked_disparity
 
-__all__ = ["estimate_array_disparity"]
+__all__ = ["estimate_array_disparity", "majority_vote"]
 
 
 def estimate_array_disparity(
@@ -42,6 +42,7 @@ def estimate_array_disparity(
     method: str = "bp",
     cost: str = "ad-census",
     segment_planes: bool = True,
+    subpixel: bool = False,
     tolerance: float = 1.0,
 ) -> np.ndarray:
     """Disparity per unit of baseline of ``views[reference]`` from all the views of a line.
@@ -63,6 +64,12 @@ def estimate_array_disparity(
         steps, the disparity being that of neighbouring views.
     method, cost, segment_planes
         The stereo-pair chain of each pair (:func:`mvtools.depth.estimate_disparity`).
+    subpixel : bool
+        Each pixel's disparity the mean of the agreeing views' disparities weighted by
+        their squared baselines (each pair's whole-pixel disparity is uncertain by a
+        pixel over its baseline, and these weights are the inverse of its variance),
+        rather than the one agreed on; finer than a pixel per unit of baseline wherever
+        views wider apart than that unit agree.
     tolerance : float
         Largest difference, per unit of baseline, between two views' disparities that
         agree.
@@ -71,7 +78,8 @@ def estimate_array_disparity(
     -------
     ndarray of float32, shape (H, W)
         Disparity per unit of ``positions`` (a pair's integer levels divided by its
-        baseline); NaN only on rows where no view confirmed any pixel.
+        baseline, or their weighted mean); NaN only on rows where no view confirmed any
+        pixel.
 
     Notes
     -----
@@ -148,15 +156,53 @@ def estimate_array_disparity(
     else:
         results += map(pair_disparity, others[1:])
     candidates, valid = zip(*results)
-    disparity, confirmed = _vote(np.stack(candidates), np.stack(valid), tolerance)
+    baselines = np.abs(positions[others] - positions[reference])
+    disparity, confirmed = majority_vote(
+        np.stack(candidates),
+        np.stack(valid),
+        tolerance,
+        weights=baselines**2 if subpixel else None,
+    )
     return fill_invalid(disparity, confirmed, chosen)
 
 
-def _vote(
-    candidates: np.ndarray, valid: np.ndarray, tolerance: float
+def majority_vote(
+    candidates: np.ndarray,
+    valid: np.ndarray,
+    tolerance: float,
+    *,
+    weights: Sequence[float] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    # Each pixel's valid candidate with the most others within tolerance (the first
-    # on a tie), and whether another confirms it or it stands alone.
+    """Each pixel's value that most of its valid candidates agree on.
+
+    Parameters
+    ----------
+    candidates : ndarray, shape (N, H, W)
+        Each view's value per pixel, in order of preference on a tie.
+    valid : ndarray of bool, shape (N, H, W)
+        Which candidates count.
+    tolerance : float
+        Largest difference between two candidates that agree.
+    weights : sequence of float, optional
+        One per candidate: the value becomes the mean of the valid candidates within
+        ``tolerance`` of the winner, weighted so (the inverse of each one's variance
+        gives the most precise mean).
+
+    Returns
+    -------
+    value : ndarray, shape (H, W)
+        The valid candidate with the most others within ``tolerance``, the first on a
+        tie (the first candidate where none is valid); or the weighted mean around it.
+    confirmed : ndarray of bool, shape (H, W)
+        Where another candidate agrees with it, or it is the only valid one.
+
+    Examples
+    --------
+    >>> candidates = np.array([3.0, 7.0, 7.5]).reshape(3, 1, 1)
+    >>> value, confirmed = majority_vote(candidates, np.ones((3, 1, 1), bool), 1.0)
+    >>> float(value[0, 0]), bool(confirmed[0, 0])
+    (7.0, True)
+    """
     support = np.zeros(candidates.shape, np.int32)
     for i in range(len(candidates)):
         agree = valid & valid[i] & (np.abs(candidates - candidates[i]) <= tolerance)
@@ -166,4 +212,10 @@ def _vote(
     winner = np.take_along_axis(candidates, best, 0)[0]
     winner_support = np.take_along_axis(support, best, 0)[0]
     confirmed = (winner_support >= 1) | (valid.sum(axis=0) == 1)
+    if weights is not None:
+        agreeing = valid & (np.abs(candidates - winner) <= tolerance)
+        weight = agreeing * np.asarray(weights, np.float64).reshape(-1, 1, 1)
+        total = weight.sum(axis=0)
+        mean = (weight * np.where(agreeing, candidates, 0)).sum(axis=0) / np.maximum(total, 1e-300)
+        winner = np.where(total > 0, mean, winner).astype(candidates.dtype)
     return winner, confirmed

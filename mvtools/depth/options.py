@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["COST_NAMES", "DEFAULT_METHOD", "DepthOptions"]
+__all__ = ["COST_NAMES", "DEFAULT_METHOD", "VIEW_COMBINATIONS", "DepthOptions"]
 
 #: Method of both modes when none is given (``--method``, DERS's Method key): ``bp``, the
 #: best measured on all shared data together. Bad 1.0 % mean of the seven Middlebury
@@ -21,6 +21,9 @@ __all__ = ["COST_NAMES", "DEFAULT_METHOD", "DepthOptions"]
 #: depth 2.00); Poznan Hall 2's camera 7 from camera 5 with the estimated depth 34.85 dB
 #: (``sgm`` 34.91, the shipped depth 32.29).
 DEFAULT_METHOD = "bp"
+
+#: How the neighbours' matches combine in the views mode (ViewCombination).
+VIEW_COMBINATIONS = ("least-cost", "vote")
 
 #: The matching costs of a rectified pair, the keys of :data:`mvtools.depth.COSTS`
 #: (which loads the kernels).
@@ -74,6 +77,10 @@ temporal_refresh_period
         is read).
     image_segmentation, temporal_enhancement : bool
         Views: ImageSegmentation and TemporalEnhancement.
+    view_combination : {"least-cost", "vote"}
+        Views: ViewCombination, how the neighbours' matches combine: the least cost of
+        the views that see a point in one sweep (DERS), or each neighbour's own depth
+        and a vote (the linear-array mode's rule).
 
     The DERS keys that change nothing (SmoothingCoefficient2, VerticalFilter,
     SegmentationMethod, MaxCluster) have no attribute.
@@ -111,6 +118,7 @@ temporal_refresh_period
     temporal_enhancement: bool = False
     threshold: float = 0.0
     temporal_refresh_period: int = 0
+    view_combination: str = "least-cost"
 
     def __post_init__(self):
         if self.cost not in COST_NAMES:
@@ -119,3 +127,8 @@ temporal_refresh_period
             raise ValueError(f"view must be 'left' or 'right', got {self.view!r}")
         if self.depth_type not in (0, 1):
             raise ValueError(f"depth_type must be 0 or 1, got {self.depth_type}")
+        if self.view_combination not in VIEW_COMBINATIONS:
+            raise ValueError(
+                f"unknown view combination {self.view_combination!r}; known: "
+                f"{', '.join(VIEW_COMBINATIONS)}"
+            )

@@ -90,6 +90,7 @@ def depth_options(params: DersParams) -> DepthOptions:
         temporal_enhancement=bool(params.temporal_enhancement),
         threshold=params.threshold,
         temporal_refresh_period=params.temporal_refresh_period,
+        view_combination=params.view_combination,
     )
 
 
@@ -544,8 +545,8 @@ def estimate_views_disparity(
     options : DepthOptions
         The disparities searched per unit of ``positions`` are
         ``minimum_value_of_disparity_search_range`` to
-        ``maximum_value_of_disparity_search_range``; the method, ``cost`` and
-        ``segment_planes`` are read too.
+        ``maximum_value_of_disparity_search_range``; the method, ``cost``,
+        ``segment_planes`` and ``subpixel`` are read too.
     positions : sequence of float, optional
         The views' places on the line; by default equal steps of one.
     output, png, png_scale
@@ -600,6 +601,7 @@ def estimate_views_disparity(
         method=method,
         cost=options.cost,
         segment_planes=options.segment_planes,
+        subpixel=options.subpixel,
     )
     _write_disparity(disparity, outputs, png_scale, time.perf_counter() - start)
     return disparity
