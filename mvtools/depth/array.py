@@ -20,8 +20,9 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from typing import TypeVar
 
 import numba
 import numpy as np
@@ -29,7 +30,10 @@ import numpy as np
 from mvtools.depth.refine import fill_invalid
 from mvtools.depth.stereo import checked_disparity
 
-__all__ = ["estimate_array_disparity", "majority_vote"]
+__all__ = ["estimate_array_disparity", "majority_vote", "side_by_side"]
+
+T = TypeVar("T")
+R = TypeVar("R")
 
 
 def estimate_array_disparity(
@@ -143,19 +147,7 @@ def estimate_array_disparity(
         )
         return disparity / np.float32(scale), consistent
 
-    # The pairs are independent: the first alone, which starts numba's threading layer,
-    # then the others a core each where that layer takes kernels from several threads at
-    # once (OpenMP; not the workqueue fallback). The stereo chain leaves cores idle
-    # (Tsukuba's four pairs: 1.17 s one after the other, 0.67 s two at a time), at the
-    # price of a cost volume per pair at work.
-    results = [pair_disparity(others[0])]
-    workers = min(os.cpu_count() or 1, len(others) - 1)
-    if workers > 1 and numba.threading_layer() == "omp":
-        with ThreadPoolExecutor(workers) as pool:
-            results += pool.map(pair_disparity, others[1:])
-    else:
-        results += map(pair_disparity, others[1:])
-    candidates, valid = zip(*results)
+    candidates, valid = zip(*side_by_side(pair_disparity, others))
     baselines = np.abs(positions[others] - positions[reference])
     disparity, confirmed = majority_vote(
         np.stack(candidates),
@@ -164,6 +156,27 @@ def estimate_array_disparity(
         weights=baselines**2 if subpixel else None,
     )
     return fill_invalid(disparity, confirmed, chosen)
+
+
+def side_by_side(function: Callable[[T], R], items: Sequence[T]) -> list[R]:
+    """``[function(item) for item in items]``, the calls after the first a core each.
+
+    The first runs alone, which starts numba's threading layer; the others run side by
+    side where that layer takes kernels from several threads at once (OpenMP, not the
+    workqueue fallback). The depth chains leave cores idle (Tsukuba's four pairs: 1.17 s
+    one after the other, 0.67 s two at a time), at the price of a cost volume per call
+    at work.
+    """
+    if not items:
+        return []
+    results = [function(items[0])]
+    workers = min(os.cpu_count() or 1, len(items) - 1)
+    if workers > 1 and numba.threading_layer() == "omp":
+        with ThreadPoolExecutor(workers) as pool:
+            results += pool.map(function, items[1:])
+    else:
+        results += map(function, items[1:])
+    return results
 
 
 def majority_vote(

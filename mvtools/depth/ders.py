@@ -68,7 +68,7 @@ import numpy as np
 from numba import njit, prange
 
 from mvtools.depth import METHODS, bp
-from mvtools.depth.array import majority_vote
+from mvtools.depth.array import majority_vote, side_by_side
 from mvtools.depth.bp import bp_strips
 from mvtools.depth.graphcut import graphcut_levels
 from mvtools.depth.local import LevelSlices, local_levels, soft_segment_aggregate
@@ -375,10 +375,11 @@ class DersEstimator:
         on a tie (the one to the right before the one to the left), or rather the nearest
         level to the mean of the neighbours that agree with it weighted by their squared
         pixels per level (the inverse of the variance of a level that is uncertain by a
-        pixel); then the fill. One cost volume is held at a time."""
+        pixel); then the fill. The neighbours after the first are matched a core each
+        (:func:`mvtools.depth.array.side_by_side`), a cost volume each."""
         segments = plane_segments(center)
-        levels, valid, precision = [], [], []
-        for index in _nearest_first(self.center, self.neighbours):
+
+        def alone(index: int) -> tuple[np.ndarray, np.ndarray, float]:
             neighbour = self.neighbours[index]
             step = _pixels_per_level(
                 self.center, [neighbour], self.inverse_depths, self.params.depth_type
@@ -388,10 +389,11 @@ class DersEstimator:
                 center, [images[index]], [neighbour], shifts, step
             )
             level, confirmed = _segment_levels(chosen, seen, cost, center, segments, step)
-            del cost
-            levels.append(level)
-            valid.append(confirmed)
-            precision.append(step**2)
+            return level, confirmed, step**2
+
+        levels, valid, precision = zip(
+            *side_by_side(alone, _nearest_first(self.center, self.neighbours))
+        )
         levels, valid = np.stack(levels), np.stack(valid)
         tolerance = 1.0 / self.pixels_per_level
         level, confirmed = majority_vote(levels, valid, tolerance)
