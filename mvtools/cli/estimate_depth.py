@@ -119,8 +119,8 @@ _SECONDARY_NAMES = {"total_number_of_frames": ("--frames",)}
     default=None,
     help="Stereo-pair mode: sub-pixel disparities, or the integer levels "
     "(default), which score better on Middlebury's bad 1.0; linear-array mode: the "
-    "mean of the views that agree, weighted by their squared baselines, or the value "
-    "agreed on (default).",
+    "weighted mean of the views that agree as it is, or rounded to whole pixels per "
+    "unit of --positions (default).",
 )
 @click.option(
     "--cost",
@@ -250,8 +250,9 @@ def command(
     from every view jointly, as in the epipolar-plane images of "Multiview video:
     acquisition, processing, compression, and virtual view rendering", section 1.4.3.2:
     each other view gives it with a left-right check, which drops what that view does
-    not see, and each pixel takes the value most views agree on (--subpixel: their
-    mean, weighted by the squared baselines). Outputs as in the stereo-pair mode.
+    not see, and each pixel takes the value most views agree on, refined by the mean of
+    those that agree weighted by their squared baselines. Outputs as in the stereo-pair
+    mode.
 
     Exits with 2 for a bad configuration, option or missing file, 1 for inconsistent
     data (different sizes, damaged videos), leaving no output file.

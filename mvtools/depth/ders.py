@@ -395,12 +395,9 @@ class DersEstimator:
             *side_by_side(alone, _nearest_first(self.center, self.neighbours))
         )
         levels, valid = np.stack(levels), np.stack(valid)
-        tolerance = 1.0 / self.pixels_per_level
-        level, confirmed = majority_vote(levels, valid, tolerance)
-        mean, _ = majority_vote(levels, valid, tolerance, weights=precision)
-        # the grid level nearest the mean, the agreed one where the mean is halfway
-        offset = mean - level
-        level = level + np.sign(offset) * np.ceil(np.abs(offset) - 0.5)
+        level, confirmed = majority_vote(
+            levels, valid, 1.0 / self.pixels_per_level, weights=precision, whole=True
+        )
         return self._filled(level, confirmed, center, segments)
 
     def refresh(self) -> None:
