@@ -19,6 +19,7 @@ pairs. Pixels no view confirms are filled as in the stereo-pair mode
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 from collections.abc import Callable, Sequence
@@ -100,10 +101,12 @@ def estimate_array_disparity(
     (:func:`mvtools.depth.estimate_disparity`), 1.48 from views 2 to 4, 1.32 from all
     five; Cones' view 2 (non-occluded pixels) 2.47 from view 6 alone, 2.03 from views
     2, 4 and 6 at ``positions`` 0, 0.5, 1 (20.7 when the nearest pair's value was
-    taken as it is: whole pixels of the pair 2-4 are two of the ground truth's). The time is that of one stereo-pair
-    chain per other view, those after the first run side by side on the cores: five
-    views of Tsukuba in 3.2 to 3.8 times one pair's time on two cores (4.4 one after
-    the other); as many cost volumes are held at once as cores work.
+    taken as it is: whole pixels of the pair 2-4 are two of the ground truth's).
+
+    The time is that of one stereo-pair chain per other view, run side by side on the
+    cores (:func:`side_by_side`): five views of Tsukuba in 2.0 to 2.5 times one pair's
+    time on two cores (4.4 one after the other); as many cost volumes are held at once
+    as cores work.
 
     Examples
     --------
@@ -154,7 +157,11 @@ def estimate_array_disparity(
         )
         return disparity / np.float32(scale), consistent
 
-    candidates, valid = zip(*side_by_side(pair_disparity, others))
+    candidates, valid = zip(
+        *side_by_side(
+            pair_disparity, others, cost=lambda index: abs(positions[index] - positions[reference])
+        )
+    )
     baselines = np.abs(positions[others] - positions[reference])
     disparity, confirmed = majority_vote(
         np.stack(candidates),
@@ -166,25 +173,45 @@ def estimate_array_disparity(
     return fill_invalid(disparity, confirmed, chosen)
 
 
-def side_by_side(function: Callable[[T], R], items: Sequence[T]) -> list[R]:
-    """``[function(item) for item in items]``, the calls after the first a core each.
+def side_by_side(
+    function: Callable[[T], R],
+    items: Sequence[T],
+    *,
+    cost: Callable[[T], float] | None = None,
+) -> list[R]:
+    """``[function(item) for item in items]``, the calls a core each.
 
-    The first runs alone, which starts numba's threading layer; the others run side by
-    side where that layer takes kernels from several threads at once (OpenMP, not the
-    workqueue fallback). The depth chains leave cores idle (Tsukuba's four pairs: 1.17 s
-    one after the other, 0.67 s two at a time), at the price of a cost volume per call
-    at work.
+    The calls run side by side where numba's threading layer takes kernels from several
+    threads at once (OpenMP, not the workqueue fallback), started first by a trivial
+    kernel; the dearest by ``cost`` start first, so that no long call starts last. The
+    depth chains leave cores idle (Tsukuba's four pairs: 1.2 s with the first alone and
+    the others two at a time, 0.8 to 0.9 s all two at a time, the widest first), at the
+    price of a cost volume per call at work.
     """
-    if not items:
-        return []
-    results = [function(items[0])]
-    workers = min(os.cpu_count() or 1, len(items) - 1)
-    if workers > 1 and numba.threading_layer() == "omp":
-        with ThreadPoolExecutor(workers) as pool:
-            results += pool.map(function, items[1:])
-    else:
-        results += map(function, items[1:])
-    return results
+    workers = min(os.cpu_count() or 1, len(items))
+    if workers < 2 or _started_threading_layer() != "omp":
+        return [function(item) for item in items]
+    order = range(len(items))
+    if cost is not None:
+        order = sorted(order, key=lambda index: -cost(items[index]))
+    with ThreadPoolExecutor(workers) as pool:
+        futures = {index: pool.submit(function, items[index]) for index in order}
+        return [futures[index].result() for index in range(len(items))]
+
+
+@functools.cache
+def _started_threading_layer() -> str:
+    # numba names its threading layer once a parallel kernel has run
+    _parallel_sum(np.ones(2))
+    return numba.threading_layer()
+
+
+@numba.njit(cache=True, parallel=True)
+def _parallel_sum(values):
+    total = 0.0
+    for index in numba.prange(values.size):
+        total += values[index]
+    return total
 
 
 def majority_vote(
