@@ -104,7 +104,7 @@ def estimate_array_disparity(
     taken as it is: whole pixels of the pair 2-4 are two of the ground truth's).
 
     The time is that of one stereo-pair chain per other view, run side by side on the
-    cores (:func:`side_by_side`): five views of Tsukuba in 2.0 to 2.5 times one pair's
+    cores (:func:`side_by_side`): five views of Tsukuba in 2.0 to 2.6 times one pair's
     time on two cores (4.4 one after the other); as many cost volumes are held at once
     as cores work.
 
@@ -187,6 +187,11 @@ def side_by_side(
     depth chains leave cores idle (Tsukuba's four pairs: 1.2 s with the first alone and
     the others two at a time, 0.8 to 0.9 s all two at a time, the widest first), at the
     price of a cost volume per call at work.
+
+    Examples
+    --------
+    >>> side_by_side(lambda value: value * value, [1, 2, 3], cost=lambda value: value)
+    [1, 4, 9]
     """
     workers = min(os.cpu_count() or 1, len(items))
     if workers < 2 or _started_threading_layer() != "omp":

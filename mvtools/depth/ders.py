@@ -375,7 +375,7 @@ class DersEstimator:
         on a tie (the one to the right before the one to the left), or rather the nearest
         level to the mean of the neighbours that agree with it weighted by their squared
         pixels per level (the inverse of the variance of a level that is uncertain by a
-        pixel); then the fill. The neighbours after the first are matched a core each
+        pixel); then the fill. The neighbours are matched a core each
         (:func:`mvtools.depth.array.side_by_side`), a cost volume each."""
         segments = plane_segments(center)
 
