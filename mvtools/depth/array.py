@@ -29,6 +29,7 @@ from typing import TypeVar
 import numba
 import numpy as np
 
+from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.refine import fill_invalid
 from mvtools.depth.stereo import checked_disparity
 
@@ -142,6 +143,8 @@ def estimate_array_disparity(
         ),
     )
 
+    segments = plane_segments(chosen) if segment_planes else None
+
     def pair_disparity(index: int) -> tuple[np.ndarray, np.ndarray]:
         baseline = positions[index] - positions[reference]
         scale = abs(baseline)
@@ -154,6 +157,7 @@ def estimate_array_disparity(
             cost=cost,
             segment_planes=segment_planes,
             view="left" if baseline > 0 else "right",
+            segments=segments,
         )
         return disparity / np.float32(scale), consistent
 

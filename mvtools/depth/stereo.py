@@ -219,6 +219,7 @@ def checked_disparity(
     segment_planes: bool = True,
     subpixel: bool = False,
     view: str = "left",
+    segments: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The disparity of one view of a rectified pair with its left-right check, before
     :func:`estimate_disparity` fills the pixels that fail it.
@@ -227,6 +228,10 @@ def checked_disparity(
     ----------
     left, right, max_disparity, min_disparity, method, cost, segment_planes, subpixel, view
         As for :func:`estimate_disparity`.
+    segments : ndarray of int, shape (H, W), optional
+        The colour segments of the view (:func:`mvtools.depth.oversegment.plane_segments`)
+        for the segment planes, when the caller has them: a view matched with several
+        others is segmented once.
 
     Returns
     -------
@@ -237,6 +242,8 @@ def checked_disparity(
         (:func:`mvtools.depth.refine.left_right_consistent`): False where the other view
         does not see the point (occlusion, the border) or the match is unreliable.
     """
+    if segments is not None and view == "right":
+        segments = np.ascontiguousarray(segments[:, ::-1])
     disparity, consistent, _ = _checked_left(
         *_mirrored_pair(left, right, view),
         max_disparity=max_disparity,
@@ -245,6 +252,7 @@ def checked_disparity(
         cost=cost,
         segment_planes=segment_planes,
         subpixel=subpixel,
+        segments=segments,
     )
     if view == "right":
         return np.ascontiguousarray(disparity[:, ::-1]), np.ascontiguousarray(consistent[:, ::-1])
@@ -271,9 +279,11 @@ def _checked_left(
     segment_planes,
     subpixel,
     keep_segments=False,
+    segments=None,
 ):
     # The left view's disparity, its left-right consistent pixels, and its colour
-    # segments when they were made (segment planes) or asked for.
+    # segments when they were made (segment planes) or asked for; ``segments``, when
+    # given, are the left view's.
     if method not in PAIR_METHODS:
         raise ValueError(f"{method!r} method is invalid, it must be one of {sorted(PAIR_METHODS)}")
     if cost not in COSTS:
@@ -337,7 +347,8 @@ def _checked_left(
         disparity_left, disparity_right = np.rint(disparity_left), np.rint(disparity_right)
     elif not subpixel:
         disparity_left = np.rint(disparity_left)
-    segments = plane_segments(left) if segment_planes or keep_segments else None
+    if segments is None and (segment_planes or keep_segments):
+        segments = plane_segments(left)
     if segment_planes:
         # Both views refined, then checked against each other: the right view's map is
         # the left one of the mirrored, swapped pair, whose costs are those of the pair
