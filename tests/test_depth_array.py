@@ -153,6 +153,7 @@ def test_views_mode_writes_the_library_result(tmp_path, subpixel):
         *["--subpixel"] * subpixel,
     )
     assert code == 0, stderr
+    assert "pairs matched: 4/4 done" in stderr  # progress, each other view a pair
     expected = estimate_array_disparity(
         _tsukuba_views(), reference=2, max_disparity=15, subpixel=subpixel
     )

@@ -376,7 +376,12 @@ def command(
     }
     if array_pictures is not None:
         estimate_views_disparity(
-            pictures, reference=reference - 1, positions=positions, options=pair, **written
+            pictures,
+            reference=reference - 1,
+            positions=positions,
+            options=pair,
+            progress=Progress(None, "pairs matched"),
+            **written,
         )
         return
     estimate_pair_disparity(left, right, options=pair, **written)

@@ -23,7 +23,7 @@ import functools
 import math
 import os
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from typing import TypeVar
 
 import numba
@@ -51,6 +51,7 @@ def estimate_array_disparity(
     segment_planes: bool = True,
     subpixel: bool = False,
     tolerance: float = 1.0,
+    progress: Callable[[int, int], None] | None = None,
 ) -> np.ndarray:
     """Disparity per unit of baseline of ``views[reference]`` from all the views of a line.
 
@@ -79,6 +80,8 @@ def estimate_array_disparity(
     tolerance : float
         Largest difference, per unit of baseline, between two views' disparities that
         agree.
+    progress : callable, optional
+        ``progress(done, total)`` as each pair is matched.
 
     Returns
     -------
@@ -163,7 +166,10 @@ def estimate_array_disparity(
 
     candidates, valid = zip(
         *side_by_side(
-            pair_disparity, others, cost=lambda index: abs(positions[index] - positions[reference])
+            pair_disparity,
+            others,
+            cost=lambda index: abs(positions[index] - positions[reference]),
+            progress=progress,
         )
     )
     baselines = np.abs(positions[others] - positions[reference])
@@ -182,8 +188,10 @@ def side_by_side(
     items: Sequence[T],
     *,
     cost: Callable[[T], float] | None = None,
+    progress: Callable[[int, int], None] | None = None,
 ) -> list[R]:
-    """``[function(item) for item in items]``, the calls a core each.
+    """``[function(item) for item in items]``, the calls a core each, with
+    ``progress(done, total)`` in the caller's thread as each call returns.
 
     The calls run side by side where numba's threading layer takes kernels from several
     threads at once (OpenMP, not the workqueue fallback), started first by a trivial
@@ -194,17 +202,32 @@ def side_by_side(
 
     Examples
     --------
-    >>> side_by_side(lambda value: value * value, [1, 2, 3], cost=lambda value: value)
+    >>> calls = []
+    >>> side_by_side(
+    ...     lambda value: value * value,
+    ...     [1, 2, 3],
+    ...     cost=lambda value: value,
+    ...     progress=lambda done, total: calls.append((done, total)),
+    ... )
     [1, 4, 9]
+    >>> calls
+    [(1, 3), (2, 3), (3, 3)]
     """
+    report = progress or (lambda done, total: None)
     workers = min(os.cpu_count() or 1, len(items))
     if workers < 2 or _started_threading_layer() != "omp":
-        return [function(item) for item in items]
+        results = []
+        for item in items:
+            results.append(function(item))
+            report(len(results), len(items))
+        return results
     order = range(len(items))
     if cost is not None:
         order = sorted(order, key=lambda index: -cost(items[index]))
     with ThreadPoolExecutor(workers) as pool:
         futures = {index: pool.submit(function, items[index]) for index in order}
+        for done, _ in enumerate(as_completed(futures.values()), start=1):
+            report(done, len(items))
         return [futures[index].result() for index in range(len(items))]
 
 

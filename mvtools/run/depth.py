@@ -531,6 +531,7 @@ def estimate_views_disparity(
     output: str | os.PathLike | None = None,
     png: str | os.PathLike | None = None,
     png_scale: float = DEFAULT_PNG_SCALE,
+    progress: ProgressCallback | None = None,
 ) -> np.ndarray:
     """Estimate the disparity map of one view of a linear array from all its views
     (:func:`mvtools.depth.array.estimate_array_disparity`) and write it on request.
@@ -551,6 +552,9 @@ def estimate_views_disparity(
         The views' places on the line; by default equal steps of one.
     output, png, png_scale
         As for :func:`estimate_pair_disparity`.
+    progress : callable, optional
+        ``progress(done, total)`` as each pair of the reference and another view is
+        matched.
 
     Returns
     -------
@@ -602,6 +606,7 @@ def estimate_views_disparity(
         cost=options.cost,
         segment_planes=options.segment_planes,
         subpixel=options.subpixel,
+        progress=progress,
     )
     _write_disparity(disparity, outputs, png_scale, time.perf_counter() - start)
     return disparity
