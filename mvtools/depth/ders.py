@@ -68,7 +68,7 @@ import numpy as np
 from numba import njit, prange
 
 from mvtools.depth import METHODS, bp
-from mvtools.depth.array import majority_vote, side_by_side
+from mvtools.depth.array import majority_vote
 from mvtools.depth.bp import bp_strips
 from mvtools.depth.graphcut import graphcut_levels
 from mvtools.depth.local import LevelSlices, local_levels, soft_segment_aggregate
@@ -375,8 +375,9 @@ class DersEstimator:
         on a tie (the one to the right before the one to the left), or rather the nearest
         level to the mean of the neighbours that agree with it weighted by their squared
         pixels per level (the inverse of the variance of a level that is uncertain by a
-        pixel); then the fill. The neighbours are matched a core each
-        (:func:`mvtools.depth.array.side_by_side`), a cost volume each."""
+        pixel); then the fill. The neighbours are matched one after the other, so that
+        one cost volume is held at a time, as in the least-cost sweep: a DERS run is one
+        of many that ``make -j`` or ``mvtools run`` start a core each."""
         segments = plane_segments(center)
 
         def alone(index: int) -> tuple[np.ndarray, np.ndarray, float]:
@@ -392,7 +393,7 @@ class DersEstimator:
             return level, confirmed, step**2
 
         levels, valid, precision = zip(
-            *side_by_side(alone, _nearest_first(self.center, self.neighbours))
+            *(alone(index) for index in _nearest_first(self.center, self.neighbours))
         )
         levels, valid = np.stack(levels), np.stack(valid)
         level, confirmed = majority_vote(
