@@ -51,26 +51,14 @@ def true_inverse_depth(rig: str, frame: int = 0) -> np.ndarray:
 def test_line_rig_disparity_range_gives_the_true_depth(tmp_path):
     # Output mapped by the disparity range (NearestDepthValue not given): to camera 1 or 3,
     # 0.1 away at f = 240, disparity 1..12 is z = 24..2 (f B / d) and values 0..255.
-    output = tmp_path / "depth_256x192_yuv420p.yuv"
-    code, _, err = run(
-        "estimate-depth",
-        SAMPLE / "line" / "depth_cam2.cfg",
-        "--frames",
-        1,
-        "NearestDepthValue=0",
-        "FarthestDepthValue=0",
-        "-o",
-        output,
-    )
-    assert code == 0, err
+    output, disparity, err = _line_estimate(tmp_path, "depth")
     assert "NearestDepthValue 2.000000 FarthestDepthValue 24.000000" in err
     description = json.loads(Path(f"{output}.json").read_text())
     assert description["NearestDepthValue"] == pytest.approx(2.0)
     assert description["FarthestDepthValue"] == pytest.approx(24.0)
     assert output.stat().st_size == 256 * 192 * 3 // 2
-    luma, u, v = read_frame(output, YuvFormat(*SIZE))
+    _, u, v = read_frame(output, YuvFormat(*SIZE))
     assert (u == 128).all() and (v == 128).all()
-    disparity = 1 + luma / 255.0 * 11  # the DERS mapping, inverted
     error = np.abs(disparity - 24.0 * true_inverse_depth("line"))
     # Measured (bp): 0.887 within 0.25 px (half a SearchLevel 2 step: the depths are the
     # planes of the search grid, as DERS's), 0.980 within 0.5 px; sgm 0.905 and 0.984;
@@ -294,8 +282,9 @@ def test_the_refinement_fits_the_true_depth_and_image_segmentation_keeps_it(tmp_
 
 
 def _line_estimate(tmp_path, name, *items):
-    """Output of camera 2 of the line rig, frame 0, as disparity to camera 1 or 3
-    (pixels; the disparity range 1..12 mapped to 0..255), with ``items``."""
+    """Output of camera 2 of the line rig, frame 0, with ``items``: the file, its
+    disparity to camera 1 or 3 (pixels; the disparity range 1..12 mapped to 0..255 by
+    DERS's mapping, inverted) and the program's stderr."""
     output = tmp_path / f"{name}_256x192_yuv420p.yuv"
     code, err = invoke(
         str(SAMPLE / "line" / "depth_cam2.cfg"),
@@ -310,7 +299,7 @@ def _line_estimate(tmp_path, name, *items):
         *items,
     )
     assert code == 0, err
-    return output, 1 + read_frame(output, YuvFormat(*SIZE))[0] / 255.0 * 11
+    return output, 1 + read_frame(output, YuvFormat(*SIZE))[0] / 255.0 * 11, err
 
 
 OUTER_LINE_VIEWS = (
@@ -321,8 +310,8 @@ OUTER_LINE_VIEWS = (
 
 def test_a_vote_of_one_neighbour_is_that_neighbours_depth(tmp_path):
     # one neighbour: nothing to outvote, so the same bytes as the one sweep
-    alone, _ = _line_estimate(tmp_path, "alone", "MatchDirection=2")
-    voted, _ = _line_estimate(tmp_path, "voted", "MatchDirection=2", "ViewCombination=vote")
+    alone, _, _ = _line_estimate(tmp_path, "alone", "MatchDirection=2")
+    voted, _, _ = _line_estimate(tmp_path, "voted", "MatchDirection=2", "ViewCombination=vote")
     assert voted.read_bytes() == alone.read_bytes()
 
 
@@ -337,7 +326,7 @@ def test_voting_five_line_views_fits_the_true_depth_best(tmp_path):
     }
     within, bad = {}, {}
     for name, items in runs.items():
-        _, disparity = _line_estimate(tmp_path, name.replace(" ", "_"), *items)
+        _, disparity, _ = _line_estimate(tmp_path, name.replace(" ", "_"), *items)
         error = np.abs(disparity - truth)
         within[name], bad[name] = (error <= 0.25).mean(), (error > 1).mean()
     # Measured (bp, SearchLevel 2: levels half a pixel apart in cam1 and cam3, a pixel
