@@ -189,6 +189,14 @@ class DersEstimator:
         self.pixels_per_level = _pixels_per_level(
             self.center, self.neighbours, self.inverse_depths, params.depth_type
         )
+        # ViewCombination vote: the neighbours nearest first, each with its pixels per level
+        self._voters = []
+        if params.view_combination == "vote":
+            for index in _nearest_first(center, neighbours):
+                step = _pixels_per_level(
+                    center, [neighbours[index]], self.inverse_depths, params.depth_type
+                )
+                self._voters.append((index, step))
         self._previous: tuple[np.ndarray, np.ndarray] | None = None
 
     # ------------------------------------------------------------------ planes and ranges
@@ -379,22 +387,17 @@ class DersEstimator:
         one cost volume is held at a time, as in the least-cost sweep: a DERS run is one
         of many that ``make -j`` or ``mvtools run`` start a core each."""
         segments = plane_segments(center)
-
-        def alone(index: int) -> tuple[np.ndarray, np.ndarray, float]:
-            neighbour = self.neighbours[index]
-            step = _pixels_per_level(
-                self.center, [neighbour], self.inverse_depths, self.params.depth_type
-            )
+        levels, valid, precision = [], [], []
+        for index, step in self._voters:
             shifts = None if self._shifts is None else [self._shifts[index]]
             chosen, seen, cost = self._matched_levels(
-                center, [images[index]], [neighbour], shifts, step
+                center, [images[index]], [self.neighbours[index]], shifts, step
             )
             level, confirmed = _segment_levels(chosen, seen, cost, center, segments, step)
-            return level, confirmed, step**2
-
-        levels, valid, precision = zip(
-            *(alone(index) for index in _nearest_first(self.center, self.neighbours))
-        )
+            del cost
+            levels.append(level)
+            valid.append(confirmed)
+            precision.append(step**2)
         levels, valid = np.stack(levels), np.stack(valid)
         level, confirmed = majority_vote(
             levels, valid, 1.0 / self.pixels_per_level, weights=precision, whole=True
