@@ -692,7 +692,9 @@ def _census_gradient_inputs(left, right, census_window, census_step, gamma):
 def as_colour(image: np.ndarray) -> np.ndarray:
     """An (H, W, 3) or (H, W) view as contiguous (H, W, 3) int32, rounded, grey repeated in
     three equal channels: one kernel then serves colour and grey views."""
-    image = np.rint(np.asarray(image)).astype(np.int32)
+    image = np.asarray(image)
+    # rounding an integer image would only pass it through a float copy
+    image = (image if np.issubdtype(image.dtype, np.integer) else np.rint(image)).astype(np.int32)
     return np.ascontiguousarray(
         np.repeat(image[:, :, None], 3, axis=2) if image.ndim == 2 else image
     )
