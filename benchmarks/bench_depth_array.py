@@ -4,8 +4,9 @@ Tsukuba's view 3 (384x288, 16 disparities) from views 2 to 4 and from all five
 (``estimate_array_disparity``) beside the stereo-pair chain on views 3 and 4
 (``estimate_disparity``, ``bp``): bad 1.0 % over all known pixels and the median time of
 five runs, measured in the same run, and the whole ``mvtools estimate-depth`` runs of both
-(start-up, reading and writing included: how a Makefile calls them), three each. Cones' view 2 from its views 2, 4 and 6 (the
-reference at the end of the line) beside the pair 2-6. Then the synthetic scene rendered
+(start-up, reading and writing included: how a Makefile calls them), three each. Cones'
+view 2 from its views 2, 4 and 6 (the reference at the end of the line) beside the pair
+2-6. Then the synthetic scene rendered
 as a line of 17 cameras 5 cm apart: bad 1.0 % of the middle view against its exact
 disparity with its middle 5, 9 and 17 views, beside the pair, and with ``subpixel`` its
 mean error in pixels beside the whole pixels'. Last, Tsukuba as a DERS case
