@@ -6,13 +6,12 @@ Tsukuba's view 3 (384x288, 16 disparities) from views 2 to 4 and from all five
 five runs, measured in the same run, and the whole ``mvtools estimate-depth`` runs of both
 (start-up, reading and writing included: how a Makefile calls them), three each. Cones'
 view 2 from its views 2, 4 and 6 (the reference at the end of the line) beside the pair
-2-6. Then the synthetic scene rendered
-as a line of 17 cameras 5 cm apart: bad 1.0 % of the middle view against its exact
-disparity with its middle 5, 9 and 17 views, beside the pair, and with ``subpixel`` its
-mean error in pixels beside the whole pixels'. Last, Tsukuba as a DERS case
-(``write_middlebury_ders_case``): ``mvtools estimate-depth`` with ViewCombination vote
-from all five views beside DERS's least-cost sweep from views 2 to 4, bad 1.0 % and the
-median time of three whole runs.
+2-6. Then the synthetic scene rendered as a line of 17 cameras 5 cm apart: bad 1.0 % of
+the middle view against its exact disparity with its middle 5, 9 and 17 views, beside the
+pair, and with ``subpixel`` its mean error in pixels beside the whole pixels'. Last,
+Tsukuba as a DERS case (``write_middlebury_ders_case``): ``mvtools estimate-depth`` with
+ViewCombination vote from all five views beside DERS's least-cost sweep from views 2 to
+4, bad 1.0 % and the median time of three whole runs.
 """
 
 from __future__ import annotations
