@@ -109,7 +109,7 @@ def estimate_array_disparity(
 
     The time is that of one stereo-pair chain per other view, run side by side on the
     cores (:func:`side_by_side`): five views of Tsukuba in 2.0 to 2.6 times one pair's
-    time on two cores (4.4 one after the other; 1.3 to 1.4 as whole ``mvtools
+    time on two cores (4.4 one after the other; 1.3 to 1.5 as whole ``mvtools
     estimate-depth`` runs, start-up included); as many cost volumes are held at once as
     cores work.
 
