@@ -167,6 +167,8 @@ def test_views_mode_writes_the_library_result(tmp_path, subpixel):
         (["--views", "a.png,b.png"], "--views needs three or more pictures, got 2"),
         (["--views", "a.png,b.png,c.png", "--reference", "4"], "--reference 4"),
         (["--views", "a.png,b.png,c.png", "--positions", "0,1"], "--positions gives 2 places"),
+        (["--views", "a.png,b.png,c.png", "--positions", "0,1,1"], "two views at one place"),
+        (["--views", "a.png,b.png,c.png", "--positions", "0,nan,2"], "must be finite numbers"),
         (["--views", "a.png,b.png,c.png", "--left", "a.png"], "--left: not in the linear-array"),
         (["--left", "a.png", "--right", "b.png", "--reference", "2"], "only with --views"),
     ],

@@ -20,6 +20,7 @@ either file.
 from __future__ import annotations
 
 import logging
+import math
 from pathlib import Path
 
 import click
@@ -336,11 +337,15 @@ def command(
         if reference > len(pictures):
             raise UsageError(f"--reference {reference}: --views lists {len(pictures)} pictures")
         if positions is not None:
-            positions = _listed("--positions", positions, float)
+            places, positions = positions, _listed("--positions", positions, float)
             if len(positions) != len(pictures):
                 raise UsageError(
                     f"--positions gives {len(positions)} places for {len(pictures)} views"
                 )
+            if not all(math.isfinite(place) for place in positions):
+                raise UsageError(f"--positions {places}: places must be finite numbers")
+            if len(set(positions)) != len(positions):
+                raise UsageError(f"--positions {places}: two views at one place")
     elif reference is not None or positions is not None:
         raise UsageError("--reference, --positions: only with --views (linear-array mode)")
     required = (("--left", left), ("--right", right)) if array_pictures is None else ()
