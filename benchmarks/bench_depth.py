@@ -13,12 +13,12 @@ MVTOOLS_BENCH_SETS=tsukuba,cones (default: the seven 2001/2003/2005 sets).
 from __future__ import annotations
 
 import os
-import sys
 import tempfile
 import time
 from pathlib import Path
 
 from common import DATA, report
+from synthesize_runner import run_synthesize
 
 from mvtools.datasets import (
     cones_multiview,
@@ -33,9 +33,6 @@ from mvtools.depth import COSTS, PAIR_METHODS, estimate_disparity
 from mvtools.io.middlebury import MIDDLEBURY_SETS
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.metrics import psnr
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from synthesize_runner import run_synthesize
 
 SETS = ("tsukuba", "venus", "teddy", "cones", "Art", "Dolls", "Moebius")
 

@@ -1,10 +1,11 @@
 """Peak resident memory of estimate_disparity per method on the Middlebury 2006 Aloe pair
 at full size (1282x1110) with 256 disparities, against the 2 GB bar of issue 20.
 
-Each method runs in a fresh subprocess; its peak is the child's ``ru_maxrss`` (from
-``os.wait4``, so every method is measured alone), the seconds are those of the
-``estimate_disparity`` call inside the child. A child whose resident size passes
-``MVTOOLS_BENCH_MEMORY_LIMIT_MB`` (default 20000) is stopped and reported as such.
+Each method runs in a fresh subprocess; its peak is the child's own
+(``common.run_measured``: every method measured alone, whatever the benchmark runner
+holds), the seconds are those of the ``estimate_disparity`` call inside the child. A
+child whose resident size passes ``MVTOOLS_BENCH_MEMORY_LIMIT_MB`` (default 20000) is
+stopped and reported as such.
 
 Environment: MVTOOLS_BENCH_METHODS=sgm,bp (default: every method of PAIR_METHODS),
 MVTOOLS_BENCH_COST=census-gradient (default ad-census), MVTOOLS_BENCH_SCALE=2 (divide the
@@ -16,10 +17,8 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-import time
-from pathlib import Path
 
-from common import DATA, report
+from common import DATA, report, run_measured
 
 from mvtools.depth import PAIR_METHODS
 
@@ -44,20 +43,10 @@ print("seconds", time.perf_counter() - start, "finite", float(np.isfinite(result
 """
 
 
-def _resident_mb(pid: int) -> float:
-    try:
-        for line in Path(f"/proc/{pid}/status").read_text().splitlines():
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024
-    except OSError:
-        pass
-    return 0.0
-
-
 def measure(method: str, *, cost: str, scale: int, disparities: int, limit_mb: float):
     """(peak resident MB, seconds or None, "STOPPED" / "FAILED" / "") of one method in a
     fresh process."""
-    process = subprocess.Popen(
+    completed, usage = run_measured(
         [
             sys.executable,
             "-c",
@@ -68,28 +57,16 @@ def measure(method: str, *, cost: str, scale: int, disparities: int, limit_mb: f
             str(scale),
             str(disparities),
         ],
+        limit_mib=limit_mb,
         stdout=subprocess.PIPE,
         text=True,
     )
-    stopped = False
-    while True:
-        # wait4 (not poll, which would reap the child) gives this child's own rusage
-        pid, status, usage = os.wait4(process.pid, os.WNOHANG)
-        if pid:
-            break
-        if not stopped and _resident_mb(process.pid) > limit_mb:
-            process.kill()
-            stopped = True
-        time.sleep(0.2)
-    output = process.stdout.read()
-    process.returncode = os.waitstatus_to_exitcode(status)
-    process.stdout.close()
     seconds = None
-    for line in output.splitlines():
+    for line in completed.stdout.splitlines():
         if line.startswith("seconds"):
             seconds = float(line.split()[1])
-    failed = not stopped and process.returncode != 0
-    return usage.ru_maxrss / 1024, seconds, "STOPPED" if stopped else "FAILED" if failed else ""
+    failed = not usage.stopped and usage.exit_code != 0
+    return usage.peak_mib, seconds, "STOPPED" if usage.stopped else "FAILED" if failed else ""
 
 
 def main() -> None:

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import os
 import re
-import resource
 import subprocess
 import sys
 import tempfile
@@ -29,7 +28,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from common import DATA, report
+from common import DATA, report, run_measured
 
 from mvtools.datasets import (
     load_middlebury_ground_truth,
@@ -92,7 +91,7 @@ def hd_rows(folder: Path) -> list:
         for planes, bar, what in ((128, 20.0, "seconds"), (256, 3072.0, "peak MB")):
             output = line / f"hd_{method}_{planes}_1920x1088_gray16le.yuv"
             start = time.perf_counter()
-            subprocess.run(
+            _, usage = run_measured(
                 [sys.executable, "-m", "mvtools", "estimate-depth", str(line / "depth_cam2.cfg"),
                  f"Method={method}", "NearestSearchDepthValue=2", "FarthestSearchDepthValue=13",
                  f"NumberOfDepthSteps={planes}", "NearestDepthValue=2", "FarthestDepthValue=13",
@@ -100,8 +99,7 @@ def hd_rows(folder: Path) -> list:
                 check=True, cwd=line,
             )  # fmt: skip
             seconds = time.perf_counter() - start
-            # the largest child so far: the 256-plane run is the largest
-            peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+            peak = usage.peak_mib
             estimate = DepthCoding((2.0, 13.0), 16).z(
                 read_frame(output, YuvFormat(1920, 1088, chroma="400", bits=16))[0]
             )
@@ -118,7 +116,6 @@ def hd_rows(folder: Path) -> list:
 def hall_rows(folder: Path) -> list:
     """Camera 7 of Poznan Hall 2 synthesized from camera 5 with the depth estimated for
     camera 5 (from camera 7) and with the shipped depth, Y-PSNR against the real one."""
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
     from test_depth_hall import hall_camera_7_psnr
 
     hall = DATA / "mpeg" / "poznan_hall2"

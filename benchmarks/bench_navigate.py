@@ -11,15 +11,13 @@
 
 from __future__ import annotations
 
-import resource
-import subprocess
 import sys
 import tempfile
 from multiprocessing import Pool
 from pathlib import Path
 
 import numpy as np
-from common import DATA, report
+from common import DATA, report, run_measured
 
 from mvtools.color.space import rgb_to_yuv
 from mvtools.geometry.pose import camera_path, eye_cameras
@@ -43,12 +41,10 @@ VSRS_KENDO_VIEW = 1.06
 
 def run(arguments: list[str], cwd: Path) -> tuple[float, float]:
     """CPU seconds and peak resident MB of one whole ``mvtools`` process."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    command = [sys.executable, "-m", "mvtools", *arguments, "-q"]
-    subprocess.run(command, cwd=cwd, check=True)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
-    return cpu, after.ru_maxrss / 1024
+    _, usage = run_measured(
+        [sys.executable, "-m", "mvtools", *arguments, "-q"], cwd=cwd, check=True
+    )
+    return usage.cpu_seconds, usage.peak_mib
 
 
 def _views(folder: Path, names: list[str], depth: str = "yuv420p") -> list[str]:

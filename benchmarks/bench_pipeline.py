@@ -20,29 +20,24 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import report
+from common import report, run_measured
 
 ROOT = Path(__file__).resolve().parent.parent
 PIPELINE = ROOT / "configs" / "sample_line_pipeline.toml"
 FRAMES = 40
 CHUNK = 8
-#: Runs a command and prints the peak resident memory (KB) of its largest process: the
-#: kernel folds each reaped descendant's peak into its parent's.
-_PEAK = (
-    "import resource, subprocess, sys; subprocess.run(sys.argv[1:], check=True); "
-    "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)"
-)
 
 
 def run(pipeline: Path, out: Path, *options: str) -> tuple[float, float]:
-    """Seconds and peak MB of one ``mvtools run`` process tree."""
+    """Seconds and peak MB of one ``mvtools run`` process tree (its largest process: the
+    kernel folds each reaped descendant's peak into its parent's)."""
     start = time.perf_counter()
-    completed = subprocess.run(
-        [sys.executable, "-c", _PEAK, sys.executable, "-m", "mvtools", "run", str(pipeline),
-         "-o", str(out), "--chunk", str(CHUNK), "-q", *options],
-        check=True, capture_output=True, text=True,
+    _, usage = run_measured(
+        [sys.executable, "-m", "mvtools", "run", str(pipeline), "-o", str(out),
+         "--chunk", str(CHUNK), "-q", *options],
+        check=True, capture_output=True,
     )  # fmt: skip
-    return time.perf_counter() - start, int(completed.stdout.split()[-1]) / 1024
+    return time.perf_counter() - start, usage.peak_mib
 
 
 #: A single-threaded CPU-bound loop: the machine's own speed-up for two processes at once.

@@ -18,6 +18,13 @@ import time
 from pathlib import Path
 
 from common import DATA, report
+from reference_cases import (
+    CAMERA_5_AS_RIGHT,
+    MODES,
+    RVS_CONES,
+    VSRS_CONES,
+    VSRS_HALL_FROM_CAMERA_5,
+)
 
 from mvtools.io.yuv import YuvFormat, read_frame
 from mvtools.metrics import psnr
@@ -27,15 +34,6 @@ CONES = REFERENCE / "cones_mvd"
 HALL = DATA / "mpeg" / "poznan_hall2"
 KENDO = DATA / "mpeg" / "kendo"
 KENDO_CONFIG = KENDO / "config" / "VSRS" / "vsrs_kendo_ori.cfg"
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from reference_cases import (
-    CAMERA_5_AS_RIGHT,
-    MODES,
-    RVS_CONES,
-    VSRS_CONES,
-    VSRS_HALL_FROM_CAMERA_5,
-)
 
 # Kendo: the settings VSRS was run with, its output and its whole-process CPU seconds
 # for one frame (README).

@@ -25,7 +25,7 @@ import time
 from pathlib import Path
 
 import cv2
-from common import DATA, report
+from common import DATA, report, run_measured
 
 from mvtools.datasets import cones_multiview, write_cones_case
 from mvtools.geometry.camera import Camera
@@ -183,21 +183,18 @@ def _program_seconds_per_frame(settings: list[str]) -> float:
     return (seconds[SPEED_FRAMES + 1] - seconds[1]) / SPEED_FRAMES
 
 
-_PEAK = """
-import resource, sys
+_SYNTHESIZE = """
+import sys
 from pathlib import Path
 from mvtools.io.loaded_config import load_config
 from mvtools.params import VsrsParams
 from mvtools.run.synthesize import synthesize_loaded
 config, frames = sys.argv[1], sys.argv[2]
-try:
-    loaded = load_config(VsrsParams, config, overrides=[f"TotalNumberOfFrames={frames}"])
-    synthesize_loaded(
-        loaded, config_path=Path(config), output_depth=Path("depth.yuv"),
-        output_holes=Path("holes.yuv"),
-    )
-finally:
-    print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+loaded = load_config(VsrsParams, config, overrides=[f"TotalNumberOfFrames={frames}"])
+synthesize_loaded(
+    loaded, config_path=Path(config), output_depth=Path("depth.yuv"),
+    output_holes=Path("holes.yuv"),
+)
 """
 
 
@@ -255,20 +252,13 @@ def memory_1080p(rows: list) -> None:
         )
         write_config(folder / "big.cfg", params)
         for frames in (2, 8):
-            completed = subprocess.run(
-                [
-                    sys.executable,
-                    "-c",
-                    _PEAK,
-                    str(folder / "big.cfg"),
-                    str(frames),
-                ],
+            _, usage = run_measured(
+                [sys.executable, "-c", _SYNTHESIZE, str(folder / "big.cfg"), str(frames)],
                 cwd=folder,
                 check=True,
                 capture_output=True,
-                text=True,
             )
-            peak = float(completed.stdout.split()[-1])
+            peak = usage.peak_mib
             rows.append(
                 (
                     f"1920x1080 general mode, {frames} frames: peak RSS (MB)",

@@ -1,14 +1,35 @@
-"""Timing and reporting shared by the benchmarks: figures side by side with a baseline."""
+"""Timing, memory and reporting shared by the benchmarks: figures side by side with a
+baseline."""
 
 from __future__ import annotations
 
 import os
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
 from collections.abc import Callable
 from pathlib import Path
 
 DATA = Path(os.environ.get("MVTOOLS_DATA", Path(__file__).resolve().parents[2] / "shared" / "data"))
+
+# the tests' helpers, which some benchmarks share
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from process_peak import Usage, measured, read_usage
+
+
+def run_measured(
+    command: list[str], *, limit_mib: float | None = None, **options
+) -> tuple[subprocess.CompletedProcess, Usage]:
+    """``subprocess.run(command, **options)`` and the command's own peak resident memory
+    and CPU time (``tests/process_peak.py``): a child started straight from the benchmark
+    runner, grown to gigabytes by earlier benchmarks, would report the runner's peak.
+    ``limit_mib`` stops the command past that resident size (``Usage.stopped``)."""
+    with tempfile.TemporaryDirectory() as folder:
+        usage = Path(folder) / "usage.json"
+        completed = subprocess.run(measured(command, usage, limit_mib=limit_mib), **options)
+        return completed, read_usage(usage)
 
 
 def median_seconds(function: Callable[[], object], *, repeats: int = 10) -> float:
