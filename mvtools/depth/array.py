@@ -242,8 +242,17 @@ def side_by_side(
     order = range(len(items))
     if cost is not None:
         order = sorted(order, key=lambda index: -cost(items[index]))
+    threads = max(1, numba.get_num_threads() // workers)
+
+    def on_its_cores(item: T) -> R:
+        # numba's thread count is per calling thread: a call's kernels share out only
+        # its own cores, instead of each asking for all of them and the OpenMP workers
+        # of one spinning on the cores where another's compute
+        numba.set_num_threads(threads)
+        return function(item)
+
     with ThreadPoolExecutor(workers) as pool:
-        futures = {index: pool.submit(function, items[index]) for index in order}
+        futures = {index: pool.submit(on_its_cores, items[index]) for index in order}
         for done, _ in enumerate(as_completed(futures.values()), start=1):
             report(done, len(items))
         return [futures[index].result() for index in range(len(items))]
