@@ -358,10 +358,10 @@ def _checked_left(
     if segments is None and (segment_planes or keep_segments):
         segments = plane_segments(left)
     if segment_planes:
-        # Both views refined, then checked against each other: the right view's map is
-        # the left one of the mirrored, swapped pair, whose costs are those of the pair
-        # reindexed in place where the cost allows it, else computed once the pair's are
-        # freed.
+        # Both views refined (the right one only with refine_other), then checked
+        # against each other: the right view's map is the left one of the mirrored,
+        # swapped pair, whose costs are those of the pair reindexed in place where the
+        # cost allows it, else computed once the pair's are freed.
         if costs is None:
             costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
         refined_left = _on_segment_planes(
