@@ -44,6 +44,8 @@ ASSIGNMENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*=\S*$")
 PUBLISHED = re.compile(r"\.\./shared/data/([^\s\"'$]*)")
 DOCTEST_PROMPT = re.compile(r"^>>> ", re.MULTILINE)
 MADE = re.compile(r"\bbuild/(demo|published)/([^\s\"'$*?\[{]*)")
+# what calls the encoders: the encode program, and any program writing an MP4
+ENCODED = re.compile(r"\bmvtools encode\b|\.mp4\b")
 # the demo's last output: the demo has run when it is there
 DEMO_DONE = REPO_ROOT / "build" / "demo" / "report.html"
 # the repository's inputs the examples read, linked into the stand-in root
@@ -219,7 +221,7 @@ def bring_made_inputs_up_to_date(example: Example) -> None:
 def test_readme_example_runs(example: Example, stand_in_root: Path):
     if example.skip_reason:
         pytest.skip(example.skip_reason)
-    if "mvtools encode" in example.text:
+    if ENCODED.search(example.text):
         missing = [program for program in ("x265", "ffmpeg") if shutil.which(program) is None]
         if missing:
             pytest.skip(f"{' and '.join(missing)} not installed (.ci/run installs them)")
