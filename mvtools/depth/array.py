@@ -118,7 +118,7 @@ def estimate_array_disparity(
 
     The time is that of one stereo-pair chain per other view, run side by side on the
     cores (:func:`side_by_side`): five views of Tsukuba in 1.9 to 2.4 times one pair's
-    time on two cores (1.2 to 1.3 as whole ``mvtools estimate-depth`` runs, start-up
+    time on two cores (1.2 to 1.4 as whole ``mvtools estimate-depth`` runs, start-up
     included); as many cost volumes are held at once as cores work.
 
     Examples
