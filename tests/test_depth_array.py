@@ -113,17 +113,19 @@ def test_dense_line_error_falls_as_views_are_added(dense_line):
             bad[count, subpixel] = _bad(disparity, truth)
             mean_error[count, subpixel] = float(np.mean(np.abs(disparity - truth)))
     # measured bad 1.0 %: the pair 0.46; whole pixels 0.26, 0.21, 0.21 from 5, 9 and 17
-    # views (130, 105, 104 pixels of 49152; a mean error of 0.227, 0.224, 0.222 px);
-    # --subpixel 0.24, 0.20, 0.20 (119, 97, 96 pixels; 0.154, 0.045, 0.018 px)
+    # views (127, 103, 103 pixels of 49152; a mean error of 0.226, 0.223, 0.222 px);
+    # --subpixel 0.24, 0.19, 0.19 (116, 95, 95 pixels; 0.154, 0.044, 0.018 px). From 9
+    # views on, the bad pixels are those next to a depth step whose place falls between
+    # whole pixels (101 of 103), so it is the mean error that keeps falling.
     assert bad[17, False] <= 0.5 and bad[17, True] <= 0.5
     for subpixel in (False, True):
-        assert bad[17, subpixel] < bad[9, subpixel] < bad[5, subpixel] < pair
+        assert bad[17, subpixel] <= bad[9, subpixel] < bad[5, subpixel] < pair
         assert mean_error[17, subpixel] < mean_error[9, subpixel] < mean_error[5, subpixel]
     assert mean_error[17, True] < mean_error[9, True] / 2 < mean_error[5, True] / 4
     assert mean_error[17, True] < 0.025 < 0.2 < mean_error[17, False]
 
 
-def test_check_against_the_unrefined_other_view(dense_line):
+def test_check_against_the_other_view_trimmed_or_unrefined(dense_line):
     # The middle view of the dense line and the view two steps to its right, whose
     # occluded pixels follow from the exact disparity: a pixel is hidden when a pixel
     # to its right lands on the same place or beyond it (a nearer line cuts its own).
@@ -136,13 +138,18 @@ def test_check_against_the_unrefined_other_view(dense_line):
     occluded[:, :-1] |= nearest_landing_right[:, 1:] < landing[:, :-1] + 0.5
     pair = views[middle], views[middle + 2]
     refined, refined_check = checked_disparity(*pair, max_disparity=12)
-    disparity, check = checked_disparity(*pair, max_disparity=12, refine_other=False)
-    # only the check changes; measured: 66 % of the 1490 occluded pixels flagged (67 %
-    # against the refined map), 99.4 % of the visible ones confirmed (the same)
-    assert np.array_equal(disparity, refined)
     assert occluded.sum() > 1000
-    assert np.mean(~check[occluded]) > 0.6 and np.mean(~refined_check[occluded]) > 0.6
-    assert np.mean(check[~occluded]) > 0.99
+    assert np.mean(~refined_check[occluded]) > 0.6
+    # only the check changes; measured against the trimmed and the unrefined map: 67 %
+    # and 66 % of the 1490 occluded pixels flagged (67 % against the refined map),
+    # 99.5 and 99.4 % of the visible ones confirmed (99.4)
+    for refine_other in ("trim", "none"):
+        disparity, check = checked_disparity(*pair, max_disparity=12, refine_other=refine_other)
+        assert np.array_equal(disparity, refined)
+        assert np.mean(~check[occluded]) > 0.6
+        assert np.mean(check[~occluded]) > 0.99
+    with pytest.raises(ValueError, match="refine_other"):
+        checked_disparity(*pair, max_disparity=12, refine_other=True)
 
 
 def test_unequal_spacing_from_the_positions(dense_line):

@@ -51,6 +51,9 @@ _GRAPHCUT_TRUNCATION = inspect.signature(graphcut_volume).parameters["truncation
 #: (:func:`mvtools.depth.cost.mirror_costs`)
 _MIRRORABLE = ("ad-census",)
 
+#: ways :func:`checked_disparity` refines the other view's map before the check
+_OTHER_VIEW_REFINEMENTS = ("planes", "trim", "none")
+
 #: methods of :func:`estimate_disparity`: those of :data:`METHODS` and PatchMatch stereo,
 #: which optimises disparity planes rather than a cost volume.
 PAIR_METHODS: tuple[str, ...] = (*METHODS, "patchmatch")
@@ -220,7 +223,7 @@ def checked_disparity(
     subpixel: bool = False,
     view: str = "left",
     segments: np.ndarray | None = None,
-    refine_other: bool = True,
+    refine_other: str = "planes",
 ) -> tuple[np.ndarray, np.ndarray]:
     """The disparity of one view of a rectified pair with its left-right check, before
     :func:`estimate_disparity` fills the pixels that fail it.
@@ -233,11 +236,14 @@ def checked_disparity(
         The colour segments of the view (:func:`mvtools.depth.oversegment.plane_segments`)
         for the segment planes, when the caller has them: a view matched with several
         others is segmented once.
-    refine_other : bool
-        Check against the other view's map refined on its own segment planes too (as
-        :func:`estimate_disparity` does), rather than against the method's own map of
-        that view: ``False`` spares segmenting the other view and refining its map, 60 %
-        of the time the segment planes take (Tsukuba: 100 of 170 ms).
+    refine_other : {"planes", "trim", "none"}
+        How the other view's map is refined before the check: on its own segment planes,
+        then by the fattening trim, as :func:`estimate_disparity` refines it
+        (``"planes"``); by the trim alone (``"trim"``), which spares choosing the other
+        view's planes (Tsukuba, on one core: 40 of the 110 ms the other view's
+        refinement takes); or not at all, the method's own map of that view (``"none"``),
+        which spares segmenting it too. With ``segment_planes=False`` neither view is
+        refined.
 
     Returns
     -------
@@ -287,7 +293,7 @@ def _checked_left(
     subpixel,
     keep_segments=False,
     segments=None,
-    refine_other=True,
+    refine_other="planes",
 ):
     # The left view's disparity, its left-right consistent pixels, and its colour
     # segments when they were made (segment planes) or asked for; ``segments``, when
@@ -296,6 +302,11 @@ def _checked_left(
         raise ValueError(f"{method!r} method is invalid, it must be one of {sorted(PAIR_METHODS)}")
     if cost not in COSTS:
         raise ValueError(f"{cost!r} cost is invalid, it must be one of {sorted(COSTS)}")
+    if refine_other not in _OTHER_VIEW_REFINEMENTS:
+        raise ValueError(
+            f"refine_other={refine_other!r} is invalid, it must be one of "
+            f"{list(_OTHER_VIEW_REFINEMENTS)}"
+        )
     left, right = check_pair(left, right, min_disparity=min_disparity, max_disparity=max_disparity)
     levels = max_disparity - min_disparity + 1
     # Memory: one cost volume, which the method overwrites with its own where it can,
@@ -358,7 +369,7 @@ def _checked_left(
     if segments is None and (segment_planes or keep_segments):
         segments = plane_segments(left)
     if segment_planes:
-        # Both views refined (the right one only with refine_other), then checked
+        # Both views refined (the right one as refine_other says), then checked
         # against each other: the right view's map is the left one of the mirrored,
         # swapped pair, whose costs are those of the pair reindexed in place where the
         # cost allows it, else computed once the pair's are freed.
@@ -373,7 +384,7 @@ def _checked_left(
             min_disparity=min_disparity,
             subpixel=subpixel,
         )
-        if not refine_other:
+        if refine_other == "none":
             return refined_left, left_right_consistent(refined_left, disparity_right), segments
         mirrored = [np.ascontiguousarray(view[:, ::-1]) for view in (right, left)]
         mirrored_segments = plane_segments(mirrored[0])
@@ -390,21 +401,25 @@ def _checked_left(
             costs,
             min_disparity=min_disparity,
             subpixel=subpixel,
+            planes=refine_other == "planes",
         )[:, ::-1]
         del costs
         disparity_left, disparity_right = refined_left, refined_right
     return disparity_left, left_right_consistent(disparity_left, disparity_right), segments
 
 
-def _on_segment_planes(disparity, other, view, segments, cost, *, min_disparity, subpixel):
-    """A view's disparities after :func:`mvtools.depth.plane_selection.select_segment_planes` and
-    :func:`mvtools.depth.plane_selection.trim_fattening`, the reliable pixels being those that
-    the other view's disparities ``other`` confirm."""
+def _on_segment_planes(
+    disparity, other, view, segments, cost, *, min_disparity, subpixel, planes=True
+):
+    """A view's disparities after :func:`mvtools.depth.plane_selection.select_segment_planes`
+    (unless not ``planes``) and :func:`mvtools.depth.plane_selection.trim_fattening`, the
+    reliable pixels being those that the other view's disparities ``other`` confirm."""
     disparity = np.ascontiguousarray(disparity, np.float32)
     valid = left_right_consistent(disparity, np.ascontiguousarray(other, np.float32))
-    disparity, valid = select_segment_planes(
-        disparity, valid, segments, cost, view, min_disparity=min_disparity
-    )
+    if planes:
+        disparity, valid = select_segment_planes(
+            disparity, valid, segments, cost, view, min_disparity=min_disparity
+        )
     disparity = trim_fattening(disparity, valid, segments, cost, view, min_disparity=min_disparity)
     return disparity if subpixel else np.rint(disparity)
 
