@@ -412,7 +412,7 @@ def _on_segment_planes(
     disparity, other, view, segments, cost, *, min_disparity, subpixel, planes=True
 ):
     """A view's disparities after :func:`mvtools.depth.plane_selection.select_segment_planes`
-    (unless not ``planes``) and :func:`mvtools.depth.plane_selection.trim_fattening`, the
+    (only with ``planes``) and :func:`mvtools.depth.plane_selection.trim_fattening`, the
     reliable pixels being those that the other view's disparities ``other`` confirm."""
     disparity = np.ascontiguousarray(disparity, np.float32)
     valid = left_right_consistent(disparity, np.ascontiguousarray(other, np.float32))
