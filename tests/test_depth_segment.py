@@ -224,3 +224,25 @@ def test_the_merge_order_is_numpys_stable_sort_of_the_weights():
     ).astype(np.float32)
     rng.shuffle(weights)
     np.testing.assert_array_equal(_stable_order(weights), np.argsort(weights, kind="stable"))
+
+
+def test_the_graph_edges_are_each_8_connected_pair_once_with_its_colour_distance():
+    from mvtools.depth.oversegment import _graph_edges
+
+    # the edges as whole-array operations on shifted views: right, down, down-right,
+    # down-left neighbours, each family in raster order
+    rng = np.random.default_rng(4)
+    colour = (rng.random((5, 7, 3)) * 255).astype(np.float32)
+    index = np.arange(35).reshape(5, 7)
+    ends = [
+        (np.s_[:, :-1], np.s_[:, 1:]),
+        (np.s_[:-1, :], np.s_[1:, :]),
+        (np.s_[:-1, :-1], np.s_[1:, 1:]),
+        (np.s_[:-1, 1:], np.s_[1:, :-1]),
+    ]
+    first, second, weight = _graph_edges(colour)
+    np.testing.assert_array_equal(first, np.concatenate([index[a].ravel() for a, _ in ends]))
+    np.testing.assert_array_equal(second, np.concatenate([index[b].ravel() for _, b in ends]))
+    expected = [np.sqrt(((colour[a] - colour[b]) ** 2).sum(axis=2)).ravel() for a, b in ends]
+    np.testing.assert_allclose(weight, np.concatenate(expected), rtol=1e-6)
+    assert len(first) == 6 * 5 + 4 * 7 + 2 * 4 * 6  # 8-connected pairs of a 5 x 7 grid

@@ -79,6 +79,39 @@ def _stable_order(keys):
     return order
 
 
+@njit(cache=True, nogil=True)
+def _graph_edges(colour):
+    # Each 8-connected edge once: every right neighbour in raster order, then every down,
+    # down-right and down-left one; its two pixels' flat indices and Euclidean colour
+    # distance, summed over the channels in order in float32.
+    rows, cols, channels = colour.shape
+    count = rows * (cols - 1) + (rows - 1) * cols + 2 * (rows - 1) * (cols - 1)
+    first = np.empty(count, np.int32)
+    second = np.empty(count, np.int32)
+    weight = np.empty(count, np.float32)
+    edge = 0
+    for down, across in ((0, 1), (1, 0), (1, 1), (1, -1)):
+        for y in range(rows - down):
+            for x in range(max(0, -across), cols - max(0, across)):
+                total = np.float32(0)
+                for channel in range(channels):
+                    difference = colour[y, x, channel] - colour[y + down, x + across, channel]
+                    total += difference * difference
+                first[edge] = y * cols + x
+                second[edge] = (y + down) * cols + x + across
+                weight[edge] = np.sqrt(total)
+                edge += 1
+    return first, second, weight
+
+
+@njit(cache=True, nogil=True)
+def _in_merge_order(first, second, weight):
+    # the edges by increasing weight, ties in their listed order, to be read one after
+    # the other
+    order = _stable_order(weight)
+    return first[order], second[order], weight[order]
+
+
 def segment_image(
     image: np.ndarray, *, scale: float = 300.0, min_size: int = 40, sigma: float = 0.8
 ) -> np.ndarray:
@@ -116,25 +149,10 @@ def segment_image(
     if sigma > 0:
         colour = cv2.GaussianBlur(colour, (0, 0), sigma).reshape(colour.shape)
     rows, cols = colour.shape[:2]
-    index = np.arange(rows * cols, dtype=np.int32).reshape(rows, cols)
-    # right, down, down-right and down-left neighbours: each 8-connected edge once
-    ends = [
-        (np.s_[:, :-1], np.s_[:, 1:]),
-        (np.s_[:-1, :], np.s_[1:, :]),
-        (np.s_[:-1, :-1], np.s_[1:, 1:]),
-        (np.s_[:-1, 1:], np.s_[1:, :-1]),
-    ]
-    first = np.concatenate([index[a].ravel() for a, _ in ends])
-    second = np.concatenate([index[b].ravel() for _, b in ends])
-    # colour distances from shifted views of the image, not gathered copies of it per edge
-    weight = np.concatenate(
-        [np.sqrt(((colour[a] - colour[b]) ** 2).sum(axis=2)).ravel() for a, b in ends]
+    first, second, weight = _in_merge_order(*_graph_edges(np.ascontiguousarray(colour)))
+    return _felzenszwalb(first, second, weight, rows * cols, float(scale), int(min_size)).reshape(
+        rows, cols
     )
-    # the edges in merge order, read one after the other
-    order = _stable_order(np.ascontiguousarray(weight, np.float32))
-    return _felzenszwalb(
-        first[order], second[order], weight[order], rows * cols, float(scale), int(min_size)
-    ).reshape(rows, cols)
 
 
 def plane_segments(view: np.ndarray) -> np.ndarray:
