@@ -9,11 +9,11 @@ video: acquisition, processing, compression, and virtual view rendering", sectio
 pair by pair: each other view gives the chosen view's disparity with its left-right
 check (:func:`mvtools.depth.stereo.checked_disparity`, the stereo-pair chain at that
 pair's baseline), the check marking the pixels that view does not see, where a nearer
-line cuts the point's; beyond the nearest view on each side, the check is against the
-other view's map as the method leaves it, not refined on that view's segment planes,
-which spares a third of such a pair's time, and where such views are, the nearest views'
-maps are only trimmed of fattening for the check, their errors being outvoted by the
-farther views. A pixel then takes the value that most of the views that see it agree
+line cuts the point's; beyond the nearest view on each side, the chosen view's map is
+only trimmed of fattening, not refined on its segment planes, and checked against the
+other view's map as the method leaves it, which spares over a third of such a pair's
+time, and where such views are, the nearest views' maps are only trimmed of fattening
+for the check, their errors being outvoted by the farther views. A pixel then takes the value that most of the views that see it agree
 on, so an occlusion on one side of the chosen view is outvoted by the views on the
 other side; its value is the mean of the views that agree, weighted by their precision,
 so wider baselines, whose disparities are finer per unit of baseline, refine the
@@ -105,30 +105,40 @@ def estimate_array_disparity(
     baseline, and these weights are the inverse of that variance. Then it is rounded
     to a whole number, halfway towards the candidate agreed on, unless ``subpixel``.
 
-    The pairs beyond the nearest view on each side are checked against the other
-    view's map before its segment planes (``refine_other="none"``): they confirm or
-    outvote the nearest pairs rather than decide alone. Checked against the fully
-    refined map as the nearest pairs were, Tsukuba's five views took 0.60 s instead of
-    0.53 on two cores, and scored 1.32 % instead of 1.36; Cones 2.03 instead of 2.05;
-    the synthetic line 0.28, 0.23, 0.24 instead of 0.26, 0.21, 0.21. Where such pairs
-    are, the nearest pairs are checked against the other view's map trimmed of
-    fattening but not refined on its segment planes (``refine_other="trim"``), the
-    farther views outvoting what that lets through: 7 to 20 % off the five views' time,
-    Tsukuba 1.360 % instead of 1.359 (one pixel), Cones 2.048 instead of 2.050, the
-    synthetic line 0.258, 0.210, 0.210 instead of 0.264, 0.214, 0.212. The nearest
-    views alone keep the full check: trimmed only, Tsukuba's views 2 to 4 score 1.77
-    instead of 1.48.
+    The pairs beyond the nearest view on each side confirm or outvote the nearest
+    pairs rather than decide alone, and are refined less: the chosen view's map is
+    trimmed of fattening but its segment planes are left to the nearest pairs
+    (``refine="trim"``), and it is checked against the other view's map as the method
+    leaves it (``refine_other="none"``). Checked against the fully refined map as the
+    nearest pairs were, Tsukuba's five views took 0.60 s instead of 0.53 on two cores,
+    and scored 1.32 % instead of 1.36; Cones 2.03 instead of 2.05; the synthetic line
+    0.28, 0.23, 0.24 instead of 0.26, 0.21, 0.21. Where such pairs are, the nearest
+    pairs are checked against the other view's map trimmed of fattening but not refined
+    on its segment planes (``refine_other="trim"``), the farther views outvoting what
+    that lets through: 7 to 20 % off the five views' time, Tsukuba 1.360 % instead of
+    1.359 (one pixel), Cones 2.048 instead of 2.050, the synthetic line 0.258, 0.210,
+    0.210 instead of 0.264, 0.214, 0.212. The nearest views alone keep the full check:
+    trimmed only, Tsukuba's views 2 to 4 score 1.77 instead of 1.48. Leaving the
+    farther pairs' own segment planes out took another 0.04 to 0.08 s off the five
+    views (0.45 to 0.47 s), for Tsukuba 1.380 % instead of 1.360 (18 pixels), Cones
+    2.034 instead of 2.048 (6.750 instead of 6.754 for view 6 from views 6, 4 and 2,
+    all known pixels), the synthetic line 0.236, 0.189, 0.191 instead of 0.258, 0.210,
+    0.210, but slightly worse in most of 15 other cases of the line (cameras 8 cm
+    apart, other textures: 9 worse by at most 0.02, 4 better). Trimming the other
+    view's map too scored better than both in most of these cases (Tsukuba 1.357) but
+    gave back more time than the planes saved.
 
     Bad 1.0 % (``bp``): Tsukuba's view 3 (all known pixels) 1.56 from view 4 alone
-    (:func:`mvtools.depth.estimate_disparity`), 1.48 from views 2 to 4, 1.36 from all
-    five; Cones' view 2 (non-occluded pixels) 2.47 from view 6 alone, 2.05 from views
+    (:func:`mvtools.depth.estimate_disparity`), 1.48 from views 2 to 4, 1.38 from all
+    five; Cones' view 2 (non-occluded pixels) 2.47 from view 6 alone, 2.03 from views
     2, 4 and 6 at ``positions`` 0, 0.5, 1 (20.7 when the nearest pair's value was
     taken as it is: whole pixels of the pair 2-4 are two of the ground truth's).
 
     The time is that of one stereo-pair chain per other view, run side by side on the
-    cores (:func:`side_by_side`): five views of Tsukuba in 0.51 to 0.54 s on two cores,
-    2.1 to 2.3 times one pair's 0.23 to 0.26 s (1.3 as whole ``mvtools estimate-depth``
-    runs, start-up included); as many cost volumes are held at once as cores work.
+    cores (:func:`side_by_side`): five views of Tsukuba in 0.45 to 0.47 s on two cores,
+    1.7 to 2.0 times one pair's 0.23 to 0.27 s (1.2 to 1.3 as whole ``mvtools
+    estimate-depth`` runs, start-up included); as many cost volumes are held at once as
+    cores work.
 
     Examples
     --------
@@ -173,6 +183,7 @@ def estimate_array_disparity(
     def pair_disparity(index: int) -> tuple[np.ndarray, np.ndarray]:
         baseline = positions[index] - positions[reference]
         scale = abs(baseline)
+        nearest = index in nearest_on_each_side
         pair = (chosen, views[index]) if baseline > 0 else (views[index], chosen)
         disparity, consistent = checked_disparity(
             *pair,
@@ -183,7 +194,8 @@ def estimate_array_disparity(
             segment_planes=segment_planes,
             view="left" if baseline > 0 else "right",
             segments=segments,
-            refine_other=nearest_check if index in nearest_on_each_side else "none",
+            refine="planes" if nearest else "trim",
+            refine_other=nearest_check if nearest else "none",
         )
         return disparity / np.float32(scale), consistent
 
@@ -327,24 +339,69 @@ def majority_vote(
     >>> float(value[0, 0])
     7.0
     """
-    support = np.zeros(candidates.shape, np.int32)
-    for i in range(len(candidates)):
-        agree = valid & valid[i] & (np.abs(candidates - candidates[i]) <= tolerance)
-        support[i] = agree.sum(axis=0) - 1
-    support[~valid] = -1
-    best = np.argmax(support, axis=0)[None]
-    agreed = np.take_along_axis(candidates, best, 0)[0]
-    winner_support = np.take_along_axis(support, best, 0)[0]
-    confirmed = (winner_support >= 1) | (valid.sum(axis=0) == 1)
-    value = agreed
-    if weights is not None:
-        agreeing = valid & (np.abs(candidates - agreed) <= tolerance)
-        weight = agreeing * np.asarray(weights, np.float64).reshape(-1, 1, 1)
-        total = weight.sum(axis=0)
-        mean = (weight * np.where(agreeing, candidates, 0)).sum(axis=0) / np.maximum(total, 1e-300)
-        value = np.where(total > 0, mean, agreed)
-    if whole:
-        below = np.floor(value)
-        above_half = (value - below > 0.5) | ((value - below == 0.5) & (agreed > value))
-        value = below + above_half
+    candidates = np.asarray(candidates)
+    valid = np.asarray(valid, bool)
+    if valid.shape != candidates.shape or candidates.ndim != 3:
+        raise ValueError(
+            f"need (N, H, W) candidates and valid flags of one shape, got "
+            f"{candidates.shape} and {valid.shape}"
+        )
+    weighted = weights is not None
+    weights = np.asarray(weights if weighted else np.ones(len(candidates)), np.float64)
+    if weights.shape != (len(candidates),):
+        raise ValueError(f"need one weight per candidate ({len(candidates)}), got {weights.shape}")
+    value, confirmed = _vote(
+        candidates,
+        valid,
+        candidates.dtype.type(tolerance),
+        weights,
+        weighted,
+        whole,
+    )
     return value.astype(candidates.dtype), confirmed
+
+
+@numba.njit(cache=True, nogil=True, parallel=True)
+def _vote(candidates, valid, tolerance, weights, weighted, whole):
+    # majority_vote pixel by pixel: the candidate with the most valid others within
+    # tolerance (the first on a tie), then the weighted mean of those around it
+    count, rows, cols = candidates.shape
+    value = np.empty((rows, cols), np.float64)
+    confirmed = np.empty((rows, cols), np.bool_)
+    for y in numba.prange(rows):
+        for x in range(cols):
+            best, best_support, valid_count = 0, -1, 0
+            for i in range(count):
+                if not valid[i, y, x]:
+                    continue
+                valid_count += 1
+                support = -1
+                for j in range(count):
+                    if (
+                        valid[j, y, x]
+                        and abs(candidates[j, y, x] - candidates[i, y, x]) <= tolerance
+                    ):
+                        support += 1
+                if support > best_support:
+                    best, best_support = i, support
+            agreed = np.float64(candidates[best, y, x])
+            confirmed[y, x] = best_support >= 1 or valid_count == 1
+            result = agreed
+            if weighted:
+                total = 0.0
+                weighted_sum = 0.0
+                for j in range(count):
+                    if (
+                        valid[j, y, x]
+                        and abs(candidates[j, y, x] - candidates[best, y, x]) <= tolerance
+                    ):
+                        total += weights[j]
+                        weighted_sum += weights[j] * candidates[j, y, x]
+                if total > 0:
+                    result = weighted_sum / max(total, 1e-300)
+            if whole:
+                below = np.floor(result)
+                above_half = result - below > 0.5 or (result - below == 0.5 and agreed > result)
+                result = below + above_half
+            value[y, x] = result
+    return value, confirmed

@@ -51,8 +51,8 @@ _GRAPHCUT_TRUNCATION = inspect.signature(graphcut_volume).parameters["truncation
 #: (:func:`mvtools.depth.cost.mirror_costs`)
 _MIRRORABLE = ("ad-census",)
 
-#: ways :func:`checked_disparity` refines the other view's map before the check
-_OTHER_VIEW_REFINEMENTS = ("planes", "trim", "none")
+#: ways :func:`checked_disparity` refines either view's map before the check
+_REFINEMENTS = ("planes", "trim", "none")
 
 #: methods of :func:`estimate_disparity`: those of :data:`METHODS` and PatchMatch stereo,
 #: which optimises disparity planes rather than a cost volume.
@@ -223,6 +223,7 @@ def checked_disparity(
     subpixel: bool = False,
     view: str = "left",
     segments: np.ndarray | None = None,
+    refine: str = "planes",
     refine_other: str = "planes",
 ) -> tuple[np.ndarray, np.ndarray]:
     """The disparity of one view of a rectified pair with its left-right check, before
@@ -236,14 +237,14 @@ def checked_disparity(
         The colour segments of the view (:func:`mvtools.depth.oversegment.plane_segments`)
         for the segment planes, when the caller has them: a view matched with several
         others is segmented once.
-    refine_other : {"planes", "trim", "none"}
-        How the other view's map is refined before the check: on its own segment planes,
-        then by the fattening trim, as :func:`estimate_disparity` refines it
-        (``"planes"``); by the trim alone (``"trim"``), which spares choosing the other
-        view's planes (Tsukuba, on one core: 40 of the 110 ms the other view's
-        refinement takes); or not at all, the method's own map of that view (``"none"``),
-        which spares segmenting it too. With ``segment_planes=False`` neither view is
-        refined.
+    refine, refine_other : {"planes", "trim", "none"}
+        How the view's map and the other view's are refined before the check: on their
+        own segment planes, then by the fattening trim, as :func:`estimate_disparity`
+        refines them (``"planes"``); by the trim alone (``"trim"``), which spares
+        choosing the planes (Tsukuba, on one core: 40 of the 110 ms the other view's
+        refinement takes); or not at all, the method's own map (``"none"``), which for
+        the other view spares segmenting it too. With ``segment_planes=False`` neither
+        view is refined.
 
     Returns
     -------
@@ -265,6 +266,7 @@ def checked_disparity(
         segment_planes=segment_planes,
         subpixel=subpixel,
         segments=segments,
+        refine=refine,
         refine_other=refine_other,
     )
     if view == "right":
@@ -293,6 +295,7 @@ def _checked_left(
     subpixel,
     keep_segments=False,
     segments=None,
+    refine="planes",
     refine_other="planes",
 ):
     # The left view's disparity, its left-right consistent pixels, and its colour
@@ -302,11 +305,9 @@ def _checked_left(
         raise ValueError(f"{method!r} method is invalid, it must be one of {sorted(PAIR_METHODS)}")
     if cost not in COSTS:
         raise ValueError(f"{cost!r} cost is invalid, it must be one of {sorted(COSTS)}")
-    if refine_other not in _OTHER_VIEW_REFINEMENTS:
-        raise ValueError(
-            f"refine_other={refine_other!r} is invalid, it must be one of "
-            f"{list(_OTHER_VIEW_REFINEMENTS)}"
-        )
+    for name, value in (("refine", refine), ("refine_other", refine_other)):
+        if value not in _REFINEMENTS:
+            raise ValueError(f"{name}={value!r} is invalid, it must be one of {list(_REFINEMENTS)}")
     left, right = check_pair(left, right, min_disparity=min_disparity, max_disparity=max_disparity)
     levels = max_disparity - min_disparity + 1
     # Memory: one cost volume, which the method overwrites with its own where it can,
@@ -369,7 +370,7 @@ def _checked_left(
     if segments is None and (segment_planes or keep_segments):
         segments = plane_segments(left)
     if segment_planes:
-        # Both views refined (the right one as refine_other says), then checked
+        # Both views refined as refine and refine_other say, then checked
         # against each other: the right view's map is the left one of the mirrored,
         # swapped pair, whose costs are those of the pair reindexed in place where the
         # cost allows it, else computed once the pair's are freed.
@@ -383,6 +384,7 @@ def _checked_left(
             costs,
             min_disparity=min_disparity,
             subpixel=subpixel,
+            refinement=refine,
         )
         if refine_other == "none":
             return refined_left, left_right_consistent(refined_left, disparity_right), segments
@@ -401,7 +403,7 @@ def _checked_left(
             costs,
             min_disparity=min_disparity,
             subpixel=subpixel,
-            planes=refine_other == "planes",
+            refinement=refine_other,
         )[:, ::-1]
         del costs
         disparity_left, disparity_right = refined_left, refined_right
@@ -409,18 +411,22 @@ def _checked_left(
 
 
 def _on_segment_planes(
-    disparity, other, view, segments, cost, *, min_disparity, subpixel, planes=True
+    disparity, other, view, segments, cost, *, min_disparity, subpixel, refinement
 ):
     """A view's disparities after :func:`mvtools.depth.plane_selection.select_segment_planes`
-    (only with ``planes``) and :func:`mvtools.depth.plane_selection.trim_fattening`, the
-    reliable pixels being those that the other view's disparities ``other`` confirm."""
+    (only with ``refinement="planes"``) and :func:`mvtools.depth.plane_selection.trim_fattening`
+    (not with ``"none"``), the reliable pixels being those that the other view's
+    disparities ``other`` confirm."""
     disparity = np.ascontiguousarray(disparity, np.float32)
-    valid = left_right_consistent(disparity, np.ascontiguousarray(other, np.float32))
-    if planes:
-        disparity, valid = select_segment_planes(
+    if refinement != "none":
+        valid = left_right_consistent(disparity, np.ascontiguousarray(other, np.float32))
+        if refinement == "planes":
+            disparity, valid = select_segment_planes(
+                disparity, valid, segments, cost, view, min_disparity=min_disparity
+            )
+        disparity = trim_fattening(
             disparity, valid, segments, cost, view, min_disparity=min_disparity
         )
-    disparity = trim_fattening(disparity, valid, segments, cost, view, min_disparity=min_disparity)
     return disparity if subpixel else np.rint(disparity)
 
 
