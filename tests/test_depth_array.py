@@ -12,6 +12,7 @@ from shared_data import shared_data
 from mvtools.datasets import load_middlebury_ground_truth, score_middlebury
 from mvtools.depth import checked_disparity, estimate_array_disparity, estimate_disparity
 from mvtools.depth.array import majority_vote
+from mvtools.depth.cost import ad_census_signatures
 from mvtools.io.images import read_image
 from mvtools.scene import default_scene, linear_rig, quantize, render, sample_intrinsics
 
@@ -166,6 +167,24 @@ def test_either_view_refined_on_planes_trimmed_or_unrefined(dense_line):
     for name in ("refine", "refine_other"):
         with pytest.raises(ValueError, match=name):
             checked_disparity(*pair, max_disparity=12, **{name: True})
+
+
+def test_census_signatures_given_give_the_same_disparities(dense_line):
+    # estimate_array_disparity transforms each view once for all its pairs; the mirrored
+    # pair (view="right") takes the views' signatures mirrored alike
+    views, _ = dense_line
+    pair = views[8], views[10]
+    signatures = [ad_census_signatures(view) for view in pair]
+    for view in ("left", "right"):
+        expected = checked_disparity(*pair, max_disparity=12, view=view)
+        given = checked_disparity(*pair, max_disparity=12, view=view, signatures=signatures)
+        assert all(np.array_equal(*maps) for maps in zip(expected, given))
+        swapped = checked_disparity(*pair, max_disparity=12, view=view, signatures=signatures[::-1])
+        assert not np.array_equal(expected[0], swapped[0])
+    with pytest.raises(ValueError, match="census-gradient"):
+        checked_disparity(*pair, max_disparity=12, cost="census-gradient", signatures=signatures)
+    with pytest.raises(ValueError, match="do not fit"):
+        checked_disparity(*pair, max_disparity=12, signatures=[s[:, 1:] for s in signatures])
 
 
 def test_unequal_spacing_from_the_positions(dense_line):

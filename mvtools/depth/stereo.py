@@ -223,6 +223,7 @@ def checked_disparity(
     subpixel: bool = False,
     view: str = "left",
     segments: np.ndarray | None = None,
+    signatures: tuple[np.ndarray, np.ndarray] | None = None,
     refine: str = "planes",
     refine_other: str = "planes",
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -237,6 +238,10 @@ def checked_disparity(
         The colour segments of the view (:func:`mvtools.depth.oversegment.plane_segments`)
         for the segment planes, when the caller has them: a view matched with several
         others is segmented once.
+    signatures : (ndarray, ndarray) of uint64, optional
+        The census signatures of ``left`` and ``right``
+        (:func:`mvtools.depth.cost.ad_census_signatures`) for the ``ad-census`` cost,
+        when the caller has them: a view matched with several others is transformed once.
     refine, refine_other : {"planes", "trim", "none"}
         How the view's map and the other view's are refined before the check: on their
         own segment planes, then by the fattening trim, as :func:`estimate_disparity`
@@ -255,8 +260,12 @@ def checked_disparity(
         (:func:`mvtools.depth.refine.left_right_consistent`): False where the other view
         does not see the point (occlusion, the border) or the match is unreliable.
     """
-    if segments is not None and view == "right":
-        segments = np.ascontiguousarray(segments[:, ::-1])
+    if signatures is not None and cost != "ad-census":
+        raise ValueError(f"census signatures are the ad-census cost's, not the {cost!r} cost's")
+    if view == "right":
+        # the mirrored pair's signatures are the views' mirrored alike (ad_census_cost)
+        segments = None if segments is None else np.ascontiguousarray(segments[:, ::-1])
+        signatures = None if signatures is None else [sig[:, ::-1] for sig in signatures[::-1]]
     disparity, consistent, _ = _checked_left(
         *_mirrored_pair(left, right, view),
         max_disparity=max_disparity,
@@ -266,6 +275,7 @@ def checked_disparity(
         segment_planes=segment_planes,
         subpixel=subpixel,
         segments=segments,
+        signatures=signatures,
         refine=refine,
         refine_other=refine_other,
     )
@@ -295,12 +305,13 @@ def _checked_left(
     subpixel,
     keep_segments=False,
     segments=None,
+    signatures=None,
     refine="planes",
     refine_other="planes",
 ):
     # The left view's disparity, its left-right consistent pixels, and its colour
     # segments when they were made (segment planes) or asked for; ``segments``, when
-    # given, are the left view's.
+    # given, are the left view's, ``signatures`` the pair's (ad-census only).
     if method not in PAIR_METHODS:
         raise ValueError(f"{method!r} method is invalid, it must be one of {sorted(PAIR_METHODS)}")
     if cost not in COSTS:
@@ -310,23 +321,26 @@ def _checked_left(
             raise ValueError(f"{name}={value!r} is invalid, it must be one of {list(_REFINEMENTS)}")
     left, right = check_pair(left, right, min_disparity=min_disparity, max_disparity=max_disparity)
     levels = max_disparity - min_disparity + 1
+    cost_options = {"min_disparity": min_disparity, "levels": levels}
+    if signatures is not None:
+        cost_options["signatures"] = signatures
     # Memory: one cost volume, which the method overwrites with its own where it can,
     # then at most one while the segment planes are chosen, the costs computed again
     # if the method overwrote them.
     if method == "graphcut" and cost in _LEVELWISE:
         # the expansion asks for one level at a time; the volume only for the energies
         labels, weights_right, weights_down = graphcut_labels(
-            _LEVELWISE[cost](left, right, min_disparity=min_disparity, levels=levels),
+            _LEVELWISE[cost](left, right, **cost_options),
             levels,
             _rgb(left),
         )
-        costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
+        costs = COSTS[cost](left, right, **cost_options)
         volume = label_energies(
             costs, labels, weights_right, weights_down, _GRAPHCUT_TRUNCATION, out=costs
         )
         costs = None
     else:
-        costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
+        costs = COSTS[cost](left, right, **cost_options)
     if method == "graphcut" and cost in _LEVELWISE:
         disparity_left = winner_takes_all(volume) + min_disparity
         disparity_right = (
@@ -375,7 +389,7 @@ def _checked_left(
         # swapped pair, whose costs are those of the pair reindexed in place where the
         # cost allows it, else computed once the pair's are freed.
         if costs is None:
-            costs = COSTS[cost](left, right, min_disparity=min_disparity, levels=levels)
+            costs = COSTS[cost](left, right, **cost_options)
         refined_left = _on_segment_planes(
             disparity_left,
             disparity_right,
