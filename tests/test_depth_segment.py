@@ -14,7 +14,12 @@ from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, scor
 from mvtools.depth import estimate_disparity
 from mvtools.depth.oversegment import segment_image
 from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
-from mvtools.depth.segment import fill_from_planes, fit_segment_planes, plane_disparity
+from mvtools.depth.segment import (
+    _grouped_by_segment,
+    fill_from_planes,
+    fit_segment_planes,
+    plane_disparity,
+)
 
 
 def _blocks():
@@ -246,3 +251,25 @@ def test_the_graph_edges_are_each_8_connected_pair_once_with_its_colour_distance
     expected = [np.sqrt(((colour[a] - colour[b]) ** 2).sum(axis=2)).ravel() for a, b in ends]
     np.testing.assert_allclose(weight, np.concatenate(expected), rtol=1e-6)
     assert len(first) == 6 * 5 + 4 * 7 + 2 * 4 * 6  # 8-connected pairs of a 5 x 7 grid
+
+
+def test_pixels_grouped_by_segment_as_a_stable_sort_would():
+    # fit_segment_planes groups the valid pixels by segment, in raster and in
+    # column-major order within each: numpy's stable sort by segment and lexsort
+    rng = np.random.default_rng(5)
+    labels = rng.integers(0, 40, (23, 31))
+    labels.ravel()[:40] = np.arange(40)
+    usable = rng.random(labels.shape) < 0.7
+    flat = np.flatnonzero(usable.ravel())
+    segment_of = labels.ravel()[flat]
+    starts = np.concatenate([[0], np.cumsum(np.bincount(segment_of, minlength=40))])
+    cols = labels.shape[1]
+    in_columns = flat[np.lexsort((flat // cols, flat % cols))]
+    np.testing.assert_array_equal(
+        _grouped_by_segment(flat, labels.ravel(), starts),
+        flat[np.argsort(segment_of, kind="stable")],
+    )
+    np.testing.assert_array_equal(
+        _grouped_by_segment(in_columns, labels.ravel(), starts),
+        flat[np.lexsort((flat // cols, flat % cols, segment_of))],
+    )

@@ -121,6 +121,19 @@ def _fit_planes(
     return planes, inliers
 
 
+@njit(cache=True, nogil=True)
+def _grouped_by_segment(pixels, labels, starts):
+    # the flat-indexed pixels grouped by their segment, in their order within each (a
+    # counting sort: a stable sort by segment, without the sort's n log n)
+    grouped = np.empty(pixels.size, np.int64)
+    free = starts[:-1].copy()
+    for pixel in pixels:
+        segment = labels[pixel]
+        grouped[free[segment]] = pixel
+        free[segment] += 1
+    return grouped
+
+
 def fit_segment_planes(
     disparity: np.ndarray,
     valid: np.ndarray,
@@ -179,12 +192,13 @@ def fit_segment_planes(
     _rows, cols = disparity.shape
     usable = valid & np.isfinite(disparity)
     flat = np.flatnonzero(usable.ravel())
-    segment_of = labels.ravel()[flat]
-    # valid pixels grouped by segment, in raster order and in column-major order within
-    by_row = flat[np.argsort(segment_of, kind="stable")]
-    by_column = flat[np.lexsort((flat // cols, flat % cols, segment_of))]
-    support = np.bincount(segment_of, minlength=segments).astype(np.int64)
+    support = np.bincount(labels.ravel()[flat], minlength=segments).astype(np.int64)
     starts = np.concatenate([[0], np.cumsum(support)]).astype(np.int64)
+    # valid pixels grouped by segment, in raster order and in column-major order within
+    in_columns = np.flatnonzero(usable.T.ravel())
+    in_columns = (in_columns % usable.shape[0]) * cols + in_columns // usable.shape[0]
+    by_row = _grouped_by_segment(flat, labels.ravel(), starts)
+    by_column = _grouped_by_segment(in_columns, labels.ravel(), starts)
     planes, inliers = _fit_planes(
         by_row,
         by_column,
