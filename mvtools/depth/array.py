@@ -13,12 +13,12 @@ line cuts the point's; beyond the nearest view on each side, the chosen view's m
 only trimmed of fattening, not refined on its segment planes, and checked against the
 other view's map as the method leaves it, which spares over a third of such a pair's
 time, and where such views are, the nearest views' maps are only trimmed of fattening
-for the check, their errors being outvoted by the farther views. A pixel then takes the value that most of the views that see it agree
-on, so an occlusion on one side of the chosen view is outvoted by the views on the
-other side; its value is the mean of the views that agree, weighted by their precision,
-so wider baselines, whose disparities are finer per unit of baseline, refine the
-nearest pairs. Pixels no view confirms are filled as in the stereo-pair mode
-(:func:`mvtools.depth.refine.fill_invalid`).
+for the check, their errors being outvoted by the farther views. A pixel then takes the
+value that most of the views that see it agree on, so an occlusion on one side of the
+chosen view is outvoted by the views on the other side; its value is the mean of the
+views that agree, weighted by their precision, so wider baselines, whose disparities are
+finer per unit of baseline, refine the nearest pairs. Pixels no view confirms are filled
+as in the stereo-pair mode (:func:`mvtools.depth.refine.fill_invalid`).
 """
 
 from __future__ import annotations
