@@ -189,16 +189,17 @@ def fit_segment_planes(
     segments = int(labels.max()) + 1 if labels.size else 0
     if labels.size and labels.min() < 0:
         raise ValueError("segment labels must be non-negative")
-    _rows, cols = disparity.shape
+    rows, cols = disparity.shape
     usable = valid & np.isfinite(disparity)
     flat = np.flatnonzero(usable.ravel())
-    support = np.bincount(labels.ravel()[flat], minlength=segments).astype(np.int64)
+    label_of = labels.ravel()
+    support = np.bincount(label_of[flat], minlength=segments).astype(np.int64)
     starts = np.concatenate([[0], np.cumsum(support)]).astype(np.int64)
     # valid pixels grouped by segment, in raster order and in column-major order within
     in_columns = np.flatnonzero(usable.T.ravel())
-    in_columns = (in_columns % usable.shape[0]) * cols + in_columns // usable.shape[0]
-    by_row = _grouped_by_segment(flat, labels.ravel(), starts)
-    by_column = _grouped_by_segment(in_columns, labels.ravel(), starts)
+    in_columns = (in_columns % rows) * cols + in_columns // rows
+    by_row = _grouped_by_segment(flat, label_of, starts)
+    by_column = _grouped_by_segment(in_columns, label_of, starts)
     planes, inliers = _fit_planes(
         by_row,
         by_column,
