@@ -408,7 +408,7 @@ def _vote(candidates, valid, tolerance, weights, weighted, whole):
                         total += weights[j]
                         weighted_sum += weights[j] * candidates[j, y, x]
                 if total > 0:
-                    result = weighted_sum / max(total, 1e-300)
+                    result = weighted_sum / total
             if whole:
                 below = np.floor(result)
                 above_half = result - below > 0.5 or (result - below == 0.5 and agreed > result)

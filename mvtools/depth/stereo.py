@@ -381,7 +381,8 @@ def _checked_left(
         disparity_left, disparity_right = np.rint(disparity_left), np.rint(disparity_right)
     elif not subpixel:
         disparity_left = np.rint(disparity_left)
-    if segments is None and (segment_planes or keep_segments):
+    # the left view's own segments only where its map is refined on them or they are kept
+    if segments is None and ((segment_planes and refine != "none") or keep_segments):
         segments = plane_segments(left)
     if segment_planes:
         # Both views refined as refine and refine_other say, then checked
