@@ -12,14 +12,20 @@ from shared_data import shared_data
 
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
 from mvtools.depth import estimate_disparity
-from mvtools.depth.oversegment import segment_image
-from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
+from mvtools.depth.cost import ad_census_cost
+from mvtools.depth.oversegment import plane_segments, segment_image
+from mvtools.depth.plane_selection import (
+    refine_on_segment_planes,
+    select_segment_planes,
+    trim_fattening,
+)
 from mvtools.depth.segment import (
     _grouped_by_segment,
     fill_from_planes,
     fit_segment_planes,
     plane_disparity,
 )
+from mvtools.depth.stereo import checked_disparity
 
 
 def _blocks():
@@ -142,6 +148,27 @@ def test_fattened_foreground_columns_return_to_the_background_plane():
     expected = truth.copy()
     expected[12, 38], expected[20, 39] = 2.0, 15.0
     np.testing.assert_allclose(trimmed, expected, atol=1e-4)
+
+
+def test_refining_on_segment_planes_is_the_selection_then_the_trim():
+    # the planes fitted once give what the two steps give, each fitting its own
+    left, right = middlebury_pair(shared_data("middlebury"), "tsukuba")
+    disparity, valid = checked_disparity(left, right, max_disparity=15, segment_planes=False)
+    labels = plane_segments(left)
+    cost = ad_census_cost(left, right, min_disparity=0, levels=16)
+    for select in (True, False):
+        refined, now_valid = refine_on_segment_planes(
+            disparity, valid, labels, cost, left, select=select
+        )
+        if select:
+            chosen, chosen_valid = select_segment_planes(disparity, valid, labels, cost, left)
+        else:
+            chosen, chosen_valid = disparity, valid
+        assert np.array_equal(refined, trim_fattening(chosen, chosen_valid, labels, cost, left))
+        assert np.array_equal(now_valid, chosen_valid)
+        # both steps changed the map: thousands of pixels with the selection, the trim's
+        # fattened columns without
+        assert np.count_nonzero(refined != disparity) > (1000 if select else 50)
 
 
 def test_segment_planes_meet_the_tsukuba_venus_and_teddy_bars():

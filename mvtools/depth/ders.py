@@ -74,7 +74,7 @@ from mvtools.depth.graphcut import graphcut_levels
 from mvtools.depth.local import LevelSlices, local_levels, soft_segment_aggregate
 from mvtools.depth.options import DEFAULT_METHOD
 from mvtools.depth.oversegment import plane_segments
-from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
+from mvtools.depth.plane_selection import refine_on_segment_planes
 from mvtools.depth.planesweep import plane_sweep_cost, sweep_homographies
 from mvtools.depth.refine import fill_invalid
 from mvtools.depth.sgm import sgm_strips
@@ -467,8 +467,7 @@ def _segment_levels(
     levels take it, fattened foreground next to depth steps falls back onto its segment's
     plane. Returns the levels, back on the search grid (float32), and the pixels kept."""
     disparity = chosen.astype(np.float32) * np.float32(step)
-    disparity, valid = select_segment_planes(disparity, seen, segments, cost, center, step=step)
-    disparity = trim_fattening(disparity, valid, segments, cost, center, step=step)
+    disparity, valid = refine_on_segment_planes(disparity, seen, segments, cost, center, step=step)
     return np.rint(disparity / step), valid
 
 

@@ -19,7 +19,7 @@ from mvtools.depth.graphcut import graphcut_labels, graphcut_volume, label_energ
 from mvtools.depth.local import local_volume
 from mvtools.depth.oversegment import plane_segments
 from mvtools.depth.patchmatch import patchmatch_planes, plane_disparity
-from mvtools.depth.plane_selection import select_segment_planes, trim_fattening
+from mvtools.depth.plane_selection import refine_on_segment_planes
 from mvtools.depth.refine import fill_invalid, left_right_consistent, refine_subpixel
 from mvtools.depth.sgm import sgm_volume, sgm_winners, winner_takes_all
 
@@ -428,19 +428,21 @@ def _checked_left(
 def _on_segment_planes(
     disparity, other, view, segments, cost, *, min_disparity, subpixel, refinement
 ):
-    """A view's disparities after :func:`mvtools.depth.plane_selection.select_segment_planes`
-    (only with ``refinement="planes"``) and :func:`mvtools.depth.plane_selection.trim_fattening`
-    (not with ``"none"``), the reliable pixels being those that the other view's
-    disparities ``other`` confirm."""
+    """A view's disparities refined on its segment planes
+    (:func:`mvtools.depth.plane_selection.refine_on_segment_planes`: the whole segments'
+    selection only with ``refinement="planes"``, the fattening trim unless ``"none"``),
+    the reliable pixels being those that the other view's disparities ``other`` confirm."""
     disparity = np.ascontiguousarray(disparity, np.float32)
     if refinement != "none":
         valid = left_right_consistent(disparity, np.ascontiguousarray(other, np.float32))
-        if refinement == "planes":
-            disparity, valid = select_segment_planes(
-                disparity, valid, segments, cost, view, min_disparity=min_disparity
-            )
-        disparity = trim_fattening(
-            disparity, valid, segments, cost, view, min_disparity=min_disparity
+        disparity, _ = refine_on_segment_planes(
+            disparity,
+            valid,
+            segments,
+            cost,
+            view,
+            min_disparity=min_disparity,
+            select=refinement == "planes",
         )
     return disparity if subpixel else np.rint(disparity)
 
