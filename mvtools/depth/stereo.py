@@ -246,7 +246,7 @@ def checked_disparity(
         How the view's map and the other view's are refined before the check: on their
         own segment planes, then by the fattening trim, as :func:`estimate_disparity`
         refines them (``"planes"``); by the trim alone (``"trim"``), which spares
-        choosing the planes (Tsukuba, on one core: 40 of the 110 ms the other view's
+        choosing the planes (Tsukuba, on one core: 22 of the 84 ms the other view's
         refinement takes); or not at all, the method's own map (``"none"``), which for
         the other view spares segmenting it too. With ``segment_planes=False`` neither
         view is refined.
