@@ -275,8 +275,8 @@ def refine_on_segment_planes(
     pixels or takes its plane, on which a second fit lands again. So the trim takes the
     planes the selection fitted rather than fitting them anew, which spares a tenth of a
     stereo pair's time on one core (Tsukuba, ``bp``: 0.25 s instead of 0.28), for the
-    same disparities as the two calls on all eight Middlebury sets (``bp``, ``sgm``,
-    ``graphcut``) and their DERS cases.
+    same disparities as the two calls on all eight Middlebury sets (``bp`` and ``sgm``;
+    ``graphcut`` on Tsukuba and Venus) and on the DERS cases of Tsukuba, Venus and Cones.
 
     Parameters
     ----------
