@@ -65,6 +65,78 @@ def test_truncated_linear_chain_by_hand():
     assert np.argmin(beliefs, axis=2)[0].tolist() == [0, 0, 3]
 
 
+def _messages_by_definition(cost, right, down, truncation, scales, iterations):
+    # Hierarchical checkerboard min-sum belief propagation written from its definition
+    # (Felzenszwalb & Huttenlocher 2006), in float64: the message to a neighbour is
+    # min_e [h(e) + w min(|d - e|, T)] over every level e, shifted to a minimum of 0,
+    # with h the data cost plus the messages from the three other neighbours; half-sweep
+    # k updates the pixels with (x + y) % 2 == k % 2. The coarser level is the energy
+    # restricted to labels constant on 2x2 blocks, and each pixel starts from the
+    # messages its block received there. Messages by slot: from above, below, left, right.
+    rows, cols, levels = cost.shape
+    messages = np.zeros((4,) + cost.shape)
+    if scales > 1 and min(rows, cols) > 1:
+        coarse_rows, coarse_cols = -(-rows // 2), -(-cols // 2)
+        coarse_cost = np.zeros((coarse_rows, coarse_cols, levels))
+        coarse_right = np.zeros((coarse_rows, coarse_cols - 1))
+        coarse_down = np.zeros((coarse_rows - 1, coarse_cols))
+        for y, x in itertools.product(range(rows), range(cols)):
+            coarse_cost[y // 2, x // 2] += cost[y, x]
+            if x % 2 == 1 and x < cols - 1:
+                coarse_right[y // 2, x // 2] += right[y, x]
+            if y % 2 == 1 and y < rows - 1:
+                coarse_down[y // 2, x // 2] += down[y, x]
+        coarse = _messages_by_definition(
+            coarse_cost, coarse_right, coarse_down, truncation, scales - 1, iterations
+        )
+        for y, x in itertools.product(range(rows), range(cols)):
+            messages[:, y, x] = coarse[:, y // 2, x // 2]
+    jumps = np.minimum(np.abs(np.subtract.outer(np.arange(levels), np.arange(levels))), truncation)
+    for half_sweep in range(iterations):
+        for y, x in itertools.product(range(rows), range(cols)):
+            if (x + y) % 2 != half_sweep % 2:
+                continue
+            total = cost[y, x] + messages[:, y, x].sum(axis=0)
+            # (neighbour, the slot it receives this pixel's message in, weight, the
+            # slot of the message from that neighbour, left out of h)
+            for (ny, nx), slot, weight, own in (
+                ((y - 1, x), 1, down[y - 1, x] if y > 0 else 0, 0),
+                ((y + 1, x), 0, down[y, x] if y < rows - 1 else 0, 1),
+                ((y, x - 1), 3, right[y, x - 1] if x > 0 else 0, 2),
+                ((y, x + 1), 2, right[y, x] if x < cols - 1 else 0, 3),
+            ):
+                if 0 <= ny < rows and 0 <= nx < cols:
+                    h = total - messages[own, y, x]
+                    sent = (h[None, :] + weight * jumps).min(axis=1)
+                    messages[slot, ny, nx] = sent - h.min()
+    return messages
+
+
+@pytest.mark.parametrize(
+    ("shape", "scales", "iterations"),
+    [
+        ((5, 7, 4), 1, 1),
+        ((37, 11, 5), 1, 6),
+        ((19, 13, 6), 3, 5),
+        ((1, 9, 3), 2, 4),
+        ((6, 1, 3), 2, 3),
+    ],
+)
+def test_belief_propagation_follows_its_definition(shape, scales, iterations):
+    # odd sizes, more rows than a strip of the sweeps, a row or a column alone
+    generator = np.random.default_rng(9)
+    cost = generator.uniform(0, 2, shape).astype(np.float32)
+    right = generator.uniform(0, 1, (shape[0], shape[1] - 1)).astype(np.float32)
+    down = generator.uniform(0, 1, (shape[0] - 1, shape[1])).astype(np.float32)
+    beliefs = belief_propagation(
+        cost, right, down, truncation=2.5, scales=scales, iterations=iterations
+    )
+    messages = _messages_by_definition(
+        cost.astype(np.float64), right, down, 2.5, scales, iterations
+    )
+    assert np.allclose(beliefs, cost + messages.sum(axis=0), rtol=1e-5, atol=1e-4)
+
+
 def test_random_small_chains_reach_the_exact_minimum():
     # alpha-expansion is within a factor 2 of the optimum for truncated linear terms
     # (Boykov et al. 2001); on chains of 5 pixels it finds the optimum in practice.

@@ -6,8 +6,9 @@ message initialisation."""
 
 from __future__ import annotations
 
+import numba
 import numpy as np
-from numba import njit, prange
+from numba import get_thread_id, njit, prange
 
 from mvtools.depth.graphcut import smoothness_weights
 from mvtools.depth.sgm import winner_takes_all
@@ -27,131 +28,299 @@ ITERATIONS = 5
 # below, on the left and on the right.
 _FROM_UP, _FROM_DOWN, _FROM_LEFT, _FROM_RIGHT = 0, 1, 2, 3
 
-
-@njit(cache=True, nogil=True, inline="always")
-def _send(data, own, weight0, weight1, weight2, weight3, truncation, sent0, sent1, sent2, sent3):
-    # sent<s>(d) = min_e [h(e) + w min(|d - e|, T)] with h = data + all four incoming
-    # messages but own[s], the message to the neighbour on side s, by the two-pass
-    # distance transform of the linear term, capped at min h + w T; shifted to a minimum
-    # of 0 so that messages stay bounded. The four messages' scans run side by side in
-    # one pass each way, four independent dependency chains that the processor overlaps
-    # (one message's scan is a chain of adds and mins, latency-bound), and the second
-    # pass caps and shifts as it goes; each value gets the same float operations, in
-    # the same order and types, as a message at a time.
-    levels = data.shape[0]
-    # (the minima in float32: a float32 difference rounds exactly as a float64 one
-    # rounded to float32, the float64 having more than twice the float32's precision
-    # bits, so shifting by them gives the same bits as shifting by a float64 minimum)
-    lowest0 = lowest1 = lowest2 = lowest3 = np.float32(np.inf)
-    total = data[0] + own[0, 0] + own[1, 0] + own[2, 0] + own[3, 0]
-    last0 = total - own[0, 0]
-    last1 = total - own[1, 0]
-    last2 = total - own[2, 0]
-    last3 = total - own[3, 0]
-    lowest0 = min(lowest0, last0)
-    lowest1 = min(lowest1, last1)
-    lowest2 = min(lowest2, last2)
-    lowest3 = min(lowest3, last3)
-    sent0[0] = last0
-    sent1[0] = last1
-    sent2[0] = last2
-    sent3[0] = last3
-    for d in range(1, levels):
-        total = data[d] + own[0, d] + own[1, d] + own[2, d] + own[3, d]
-        h0 = total - own[0, d]
-        h1 = total - own[1, d]
-        h2 = total - own[2, d]
-        h3 = total - own[3, d]
-        lowest0 = min(lowest0, h0)
-        lowest1 = min(lowest1, h1)
-        lowest2 = min(lowest2, h2)
-        lowest3 = min(lowest3, h3)
-        last0 = min(h0, last0 + weight0)
-        last1 = min(h1, last1 + weight1)
-        last2 = min(h2, last2 + weight2)
-        last3 = min(h3, last3 + weight3)
-        sent0[d] = last0
-        sent1[d] = last1
-        sent2[d] = last2
-        sent3[d] = last3
-    cap0 = weight0 * truncation
-    cap1 = weight1 * truncation
-    cap2 = weight2 * truncation
-    cap3 = weight3 * truncation
-    for d in range(levels - 2, -1, -1):
-        h0 = min(sent0[d], last0 + weight0)
-        h1 = min(sent1[d], last1 + weight1)
-        h2 = min(sent2[d], last2 + weight2)
-        h3 = min(sent3[d], last3 + weight3)
-        sent0[d + 1] = min(last0 - lowest0, cap0)
-        sent1[d + 1] = min(last1 - lowest1, cap1)
-        sent2[d + 1] = min(last2 - lowest2, cap2)
-        sent3[d + 1] = min(last3 - lowest3, cap3)
-        last0, last1, last2, last3 = h0, h1, h2, h3
-    sent0[0] = min(last0 - lowest0, cap0)
-    sent1[0] = min(last1 - lowest1, cap1)
-    sent2[0] = min(last2 - lowest2, cap2)
-    sent3[0] = min(last3 - lowest3, cap3)
+# The layout of a band of rows: every pixel has a colour, the checkerboard class
+# (x + y) % 2 of its image coordinates, and a half-sweep updates the pixels of one
+# colour from the messages the other colour sent them. So the messages are held as
+# eight arrays, one per colour and slot (index 4 * colour + slot), and the data costs
+# as two, one per colour, each of shape (rows + 2, levels, columns // 2 + 2), pixel
+# (y, x) of a band whose first row is image row y0 at [y - y0 + 1, :, x // 2 + 1]. A
+# half-sweep then reads arrays distinct from those it writes (numba passes a parallel
+# loop's distinct arrays to LLVM as not aliased), and the pixels of a row that it
+# updates lie side by side at every level: the update vectorises across them, each
+# pixel's chain of levels in a lane of its own. The first and last rows and columns
+# take the messages sent across the grid's edges, which nobody reads.
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _iterate(data, right, down, messages, truncation, iterations, row_offset, first, stop):
-    # Checkerboard schedule: a pixel of one parity reads only its own slots, written
-    # by the other parity in the previous half-sweep, and writes only into its
-    # neighbours' slots, so every row runs in parallel. row_offset: the image row of
-    # row 0, when the arrays are a band of rows, which keeps the parities.
-    # Half-sweep k updates only rows first - k .. stop - k - 1 (0 .. rows - 1 with
+def _half_sweep(
+    data,
+    own_up,
+    own_down,
+    own_left,
+    own_right,
+    to_up,
+    to_down,
+    to_left,
+    to_right,
+    weight_up,
+    weight_down,
+    weight_left,
+    weight_right,
+    lowest_up,
+    lowest_down,
+    lowest_left,
+    lowest_right,
+    backward_up,
+    backward_down,
+    backward_left,
+    backward_right,
+    truncation,
+    colour,
+    row_offset,
+    first,
+    stop,
+    columns,
+):
+    # Rows first .. stop - 1 (padded) of one colour send their messages: to_up(d) =
+    # min_e [h(e) + w min(|d - e|, T)] with h = data + all incoming messages but the
+    # one from above, by the two-pass distance transform of the linear term, capped at
+    # min h + w T and shifted to a minimum of 0 so that messages stay bounded; to_up
+    # is the other colour's from-below slot, and so on. The forward pass leaves its
+    # values where the messages go; the backward pass and the running minimum keep
+    # their current and last level only, per thread, rather than reading a value and
+    # writing it back in place (a masked store once vectorised, slow on some
+    # processors). Each value gets the same float operations, in the same order and
+    # types, as one pixel's messages at a time.
+    levels = data.shape[1]
+    top = levels - 1
+    last = top % 2
+    for y in prange(first, stop):
+        # the row's pixels of this colour are x = 2 (j - 1) + parity, j = 1 .. count
+        parity = (colour + y - 1 + row_offset) % 2
+        count = (columns - parity + 1) // 2
+        thread = get_thread_id()
+        for j in range(1, count + 1):
+            a0 = own_up[y, 0, j]
+            a1 = own_down[y, 0, j]
+            a2 = own_left[y, 0, j]
+            a3 = own_right[y, 0, j]
+            total = data[y, 0, j] + a0 + a1 + a2 + a3
+            lowest_up[thread, 0, j] = to_up[y - 1, 0, j] = total - a0
+            lowest_down[thread, 0, j] = to_down[y + 1, 0, j] = total - a1
+            lowest_left[thread, 0, j] = to_left[y, 0, j - 1 + parity] = total - a2
+            lowest_right[thread, 0, j] = to_right[y, 0, j + parity] = total - a3
+        for d in range(1, levels):
+            now = d % 2
+            for j in range(1, count + 1):
+                a0 = own_up[y, d, j]
+                a1 = own_down[y, d, j]
+                a2 = own_left[y, d, j]
+                a3 = own_right[y, d, j]
+                total = data[y, d, j] + a0 + a1 + a2 + a3
+                h0 = total - a0
+                h1 = total - a1
+                h2 = total - a2
+                h3 = total - a3
+                lowest_up[thread, now, j] = min(lowest_up[thread, 1 - now, j], h0)
+                lowest_down[thread, now, j] = min(lowest_down[thread, 1 - now, j], h1)
+                lowest_left[thread, now, j] = min(lowest_left[thread, 1 - now, j], h2)
+                lowest_right[thread, now, j] = min(lowest_right[thread, 1 - now, j], h3)
+                to_up[y - 1, d, j] = min(h0, to_up[y - 1, d - 1, j] + weight_up[y, j])
+                to_down[y + 1, d, j] = min(h1, to_down[y + 1, d - 1, j] + weight_down[y, j])
+                to_left[y, d, j - 1 + parity] = min(
+                    h2, to_left[y, d - 1, j - 1 + parity] + weight_left[y, j]
+                )
+                to_right[y, d, j + parity] = min(
+                    h3, to_right[y, d - 1, j + parity] + weight_right[y, j]
+                )
+        for j in range(1, count + 1):
+            backward_up[thread, last, j] = to_up[y - 1, top, j]
+            backward_down[thread, last, j] = to_down[y + 1, top, j]
+            backward_left[thread, last, j] = to_left[y, top, j - 1 + parity]
+            backward_right[thread, last, j] = to_right[y, top, j + parity]
+        # the backward pass writes each level's message once the level above is final
+        for d in range(top - 1, -1, -1):
+            now = d % 2
+            for j in range(1, count + 1):
+                b0 = backward_up[thread, 1 - now, j]
+                b1 = backward_down[thread, 1 - now, j]
+                b2 = backward_left[thread, 1 - now, j]
+                b3 = backward_right[thread, 1 - now, j]
+                backward_up[thread, now, j] = min(to_up[y - 1, d, j], b0 + weight_up[y, j])
+                backward_down[thread, now, j] = min(to_down[y + 1, d, j], b1 + weight_down[y, j])
+                backward_left[thread, now, j] = min(
+                    to_left[y, d, j - 1 + parity], b2 + weight_left[y, j]
+                )
+                backward_right[thread, now, j] = min(
+                    to_right[y, d, j + parity], b3 + weight_right[y, j]
+                )
+                to_up[y - 1, d + 1, j] = min(
+                    b0 - lowest_up[thread, last, j], weight_up[y, j] * truncation
+                )
+                to_down[y + 1, d + 1, j] = min(
+                    b1 - lowest_down[thread, last, j], weight_down[y, j] * truncation
+                )
+                to_left[y, d + 1, j - 1 + parity] = min(
+                    b2 - lowest_left[thread, last, j], weight_left[y, j] * truncation
+                )
+                to_right[y, d + 1, j + parity] = min(
+                    b3 - lowest_right[thread, last, j], weight_right[y, j] * truncation
+                )
+        for j in range(1, count + 1):
+            to_up[y - 1, 0, j] = min(
+                backward_up[thread, 0, j] - lowest_up[thread, last, j],
+                weight_up[y, j] * truncation,
+            )
+            to_down[y + 1, 0, j] = min(
+                backward_down[thread, 0, j] - lowest_down[thread, last, j],
+                weight_down[y, j] * truncation,
+            )
+            to_left[y, 0, j - 1 + parity] = min(
+                backward_left[thread, 0, j] - lowest_left[thread, last, j],
+                weight_left[y, j] * truncation,
+            )
+            to_right[y, 0, j + parity] = min(
+                backward_right[thread, 0, j] - lowest_right[thread, last, j],
+                weight_right[y, j] * truncation,
+            )
+
+
+@njit(cache=True, nogil=True)
+def _iterate(
+    data, messages, weights, truncation, iterations, row_offset, first, stop, columns, threads
+):
+    # Checkerboard schedule: half-sweep k updates the pixels of colour k % 2 (in image
+    # coordinates: row_offset is the image row of the band's row 0), which read only
+    # their own slots, written by the other colour in the previous half-sweep, and
+    # write only into the other colour's slots, so every row runs in parallel.
+    # Half-sweep k updates only band rows first - k .. stop - k - 1 (0 .. rows - 1 with
     # first <= 0 and stop >= rows + iterations): a staircase whose rows above have had
     # one half-sweep more than the rows below, which is all that a row's update needs
     # (its neighbours' previous half-sweep, not yet their next one), so a level can be
     # swept a band at a time, each row updated once per half-sweep (see _Level).
-    rows, cols, levels = data.shape
+    rows, width = data[0].shape[0] - 2, data[0].shape[2]
+    # each thread's running minima and backward values, this level's and the last's
+    scratch = [np.empty((threads, 2, width), np.float32) for _ in range(8)]
     for iteration in range(iterations):
-        for y in prange(max(0, first - iteration), min(rows, stop - iteration)):
-            # a side without a neighbour gets its message in a row nobody reads
-            spare = np.empty((4, levels), np.float32)
-            for x in range((y + row_offset + iteration) % 2, cols, 2):
-                _send(
-                    data[y, x],
-                    messages[:, y, x],
-                    down[y - 1, x] if y > 0 else np.float32(0),
-                    down[y, x] if y < rows - 1 else np.float32(0),
-                    right[y, x - 1] if x > 0 else np.float32(0),
-                    right[y, x] if x < cols - 1 else np.float32(0),
-                    truncation,
-                    messages[_FROM_DOWN, y - 1, x] if y > 0 else spare[_FROM_UP],
-                    messages[_FROM_UP, y + 1, x] if y < rows - 1 else spare[_FROM_DOWN],
-                    messages[_FROM_RIGHT, y, x - 1] if x > 0 else spare[_FROM_LEFT],
-                    messages[_FROM_LEFT, y, x + 1] if x < cols - 1 else spare[_FROM_RIGHT],
-                )
+        colour = iteration % 2
+        own = 4 * colour
+        other = 4 * (1 - colour)
+        begin = max(0, first - iteration)
+        end = min(rows, stop - iteration)
+        if begin < end:
+            _half_sweep(
+                data[colour],
+                messages[own + _FROM_UP],
+                messages[own + _FROM_DOWN],
+                messages[own + _FROM_LEFT],
+                messages[own + _FROM_RIGHT],
+                messages[other + _FROM_DOWN],
+                messages[other + _FROM_UP],
+                messages[other + _FROM_RIGHT],
+                messages[other + _FROM_LEFT],
+                weights[own + _FROM_UP],
+                weights[own + _FROM_DOWN],
+                weights[own + _FROM_LEFT],
+                weights[own + _FROM_RIGHT],
+                scratch[0],
+                scratch[1],
+                scratch[2],
+                scratch[3],
+                scratch[4],
+                scratch[5],
+                scratch[6],
+                scratch[7],
+                truncation,
+                colour,
+                row_offset,
+                begin + 1,
+                end + 1,
+                columns,
+            )
+
+
+# Columns per block of _into_colours: the levels of a block's pixels of one colour,
+# read a pixel at a time and written a level at a time, stay in the first-level cache.
+_BLOCK = 64
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _finer_messages(coarse, fine, row_offset, coarse_row_offset):
-    # each pixel starts from the messages its 2x2 block received, written straight into
-    # the finer array (no repeated intermediate copies); the finer rows are those from
-    # row_offset on, the coarse ones from coarse_row_offset on
-    for y in prange(fine.shape[1]):
-        for s in range(coarse.shape[0]):
-            for x in range(fine.shape[2]):
-                fine[s, y, x, :] = coarse[s, (y + row_offset) // 2 - coarse_row_offset, x // 2, :]
+def _into_colours(volume, row_offset, split, at):
+    # data costs of shape (rows, columns, levels) from image row row_offset into the
+    # two colours' arrays of a band, from its row at on
+    rows, columns, levels = volume.shape
+    for y in prange(rows):
+        for parity in range(2):
+            into = split[(parity + y + row_offset) % 2]
+            for x0 in range(parity, columns, _BLOCK):
+                for d in range(levels):
+                    for x in range(x0, min(columns, x0 + _BLOCK), 2):
+                        into[at + y + 1, d, x // 2 + 1] = volume[y, x, d]
+
+
+@njit(cache=True, nogil=True)
+def _weights_by_colour(right, down):
+    # Each pixel's weights towards its four neighbours, zero where the grid has none,
+    # in the layout of the sweeps (index 4 * colour + slot) for the whole level: a
+    # band's are its rows, the edge rows of a band that is not the grid's never being
+    # updated (see _Level).
+    rows, columns = down.shape[0] + 1, down.shape[1]
+    weights = [np.zeros((rows + 2, columns // 2 + 2), np.float32) for _ in range(8)]
+    for y in range(rows):
+        for x in range(columns):
+            colour = 4 * ((x + y) % 2)
+            j = x // 2 + 1
+            if y > 0:
+                weights[colour + _FROM_UP][y + 1, j] = down[y - 1, x]
+            if y < rows - 1:
+                weights[colour + _FROM_DOWN][y + 1, j] = down[y, x]
+            if x > 0:
+                weights[colour + _FROM_LEFT][y + 1, j] = right[y, x - 1]
+            if x < columns - 1:
+                weights[colour + _FROM_RIGHT][y + 1, j] = right[y, x]
+    return weights
+
+
+@njit(cache=True, nogil=True, parallel=True)
+def _finer_messages(coarse, coarse_first, fine, fine_first, begin, end, columns):
+    # each pixel of image rows begin .. end - 1 starts from the messages its 2x2 block
+    # received; coarse_first and fine_first are the image rows of the two bands' row 0
+    levels = fine[0].shape[1]
+    for y in prange(begin, end):
+        block = y // 2
+        at, source_row = y - fine_first + 1, block - coarse_first + 1
+        for colour in range(2):
+            count = (columns - (colour + y) % 2 + 1) // 2
+            # pixel j (x // 2 = j - 1) lies in block column j - 1, which has colour
+            # (j - 1 + block) % 2 and sits at (j - 1) // 2 + 1 of its row
+            for slot in range(4):
+                into = fine[4 * colour + slot]
+                for step in range(2):
+                    source = coarse[4 * ((step + block) % 2) + slot]
+                    for d in range(levels):
+                        for i in range((count - step + 1) // 2):
+                            into[at, d, 2 * i + step + 1] = source[source_row, d, i + 1]
     return fine
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _beliefs(data, messages, beliefs):
-    # each element of data is read before it is written, so beliefs may be data itself
-    rows, cols, levels = data.shape
+def _beliefs(costs, messages, first, row_offset, beliefs):
+    # the beliefs of image rows row_offset .. into beliefs, of shape (rows, columns,
+    # levels), from a band whose row 0 is image row first: summed a row's pixels of
+    # one colour at a time, side by side, then laid out a pixel at a time
+    rows, columns, levels = beliefs.shape
     for y in prange(rows):
-        for x in range(cols):
+        at = y + row_offset - first + 1
+        summed = np.empty((levels, costs[0].shape[2]), np.float32)
+        for parity in range(2):
+            colour = (parity + y + row_offset) % 2
+            data = costs[colour]
+            up, down = messages[4 * colour + _FROM_UP], messages[4 * colour + _FROM_DOWN]
+            left = messages[4 * colour + _FROM_LEFT]
+            right = messages[4 * colour + _FROM_RIGHT]
+            count = (columns - parity + 1) // 2
             for d in range(levels):
-                beliefs[y, x, d] = (
-                    data[y, x, d]
-                    + messages[0, y, x, d]
-                    + messages[1, y, x, d]
-                    + messages[2, y, x, d]
-                    + messages[3, y, x, d]
-                )
+                for j in range(1, count + 1):
+                    summed[d, j] = (
+                        data[at, d, j]
+                        + up[at, d, j]
+                        + down[at, d, j]
+                        + left[at, d, j]
+                        + right[at, d, j]
+                    )
+            for x in range(parity, columns, 2):
+                for d in range(levels):
+                    beliefs[y, x, d] = summed[d, x // 2 + 1]
     return beliefs
 
 
@@ -165,14 +334,12 @@ def _pair_sum(array: np.ndarray, axis: int) -> np.ndarray:
     return array.reshape(shape).sum(axis=axis + 1)
 
 
-def _coarser(data, right, down):
-    # The coarse problem is the fine energy restricted to labels constant on 2x2
-    # blocks: data costs add up over a block, and the weights of the fine edges
-    # crossing between two blocks add up into the coarse edge's weight.
-    coarse_data = _pair_sum(_pair_sum(data, 0), 1)
-    coarse_right = _pair_sum(right[:, 1::2], 0)
-    coarse_down = _pair_sum(down[1::2], 1)
-    return coarse_data, coarse_right, coarse_down
+def _check_options(truncation, scales, iterations):
+    if truncation < 1 or scales < 1 or iterations < 1:
+        raise ValueError(
+            f"truncation, scales and iterations must be at least 1, got "
+            f"{truncation}, {scales}, {iterations}"
+        )
 
 
 def belief_propagation(
@@ -204,7 +371,8 @@ def belief_propagation(
         Checkerboard half-sweeps per level.
     overwrite : bool
         Write the beliefs into ``cost`` (a contiguous float32 volume), which is then
-        lost: the four message volumes and that one are the largest arrays alive.
+        lost. Beside the costs and the beliefs, only bands of rows of messages and of
+        summed costs are alive (the sweeps of :func:`bp_strips`).
 
     Returns
     -------
@@ -217,52 +385,11 @@ def belief_propagation(
         raise ValueError(
             f"weights of shapes {right.shape} and {down.shape} do not fit a {rows}x{cols} grid"
         )
-    if truncation < 1 or scales < 1 or iterations < 1:
-        raise ValueError(
-            f"truncation, scales and iterations must be at least 1, got "
-            f"{truncation}, {scales}, {iterations}"
-        )
-    right = np.ascontiguousarray(right, np.float32)
-    down = np.ascontiguousarray(down, np.float32)
-    coarse = _coarse_messages(cost, right, down, truncation, scales, iterations)
-    messages = (
-        np.zeros((4,) + cost.shape, np.float32)
-        if coarse is None
-        else _finer_messages(coarse, np.empty((4,) + cost.shape, np.float32), 0, 0)
-    )
-    del coarse
-    _iterate(
-        cost, right, down, messages, np.float32(truncation), iterations, 0, 0, rows + iterations
-    )
-    return _beliefs(cost, messages, cost if overwrite else np.empty_like(cost))
-
-
-def _coarse_messages(cost, right, down, truncation, scales, iterations):
-    # The messages of the level above the finest after its iterations (None with a
-    # single level), each coarser level dropped as soon as the finer one starts.
-    pyramid = [(cost, right, down)]
-    while len(pyramid) < scales and min(pyramid[-1][0].shape[:2]) > 1:
-        pyramid.append(_coarser(*pyramid[-1]))
-    messages = None
-    while len(pyramid) > 1:
-        data, level_right, level_down = pyramid.pop()
-        if messages is None:
-            messages = np.zeros((4,) + data.shape, np.float32)
-        else:
-            messages = _finer_messages(messages, np.empty((4,) + data.shape, np.float32), 0, 0)
-        _iterate(
-            np.ascontiguousarray(data),
-            np.ascontiguousarray(level_right),
-            np.ascontiguousarray(level_down),
-            messages,
-            np.float32(truncation),
-            iterations,
-            0,
-            0,
-            data.shape[0] + iterations,
-        )
-        del data, level_right, level_down
-    return messages
+    _check_options(truncation, scales, iterations)
+    beliefs = cost if overwrite else np.empty_like(cost)
+    for _ in _belief_strips(cost, right, down, truncation, scales, iterations, 16, beliefs):
+        pass
+    return beliefs
 
 
 def bp_volume(
@@ -332,8 +459,8 @@ def bp_strips(
     half-sweeps, see :class:`_Level`), its messages started from the level above's as
     soon as those are final: the strips' messages and beliefs are those of the whole
     frame, bit for bit, for the work of one frame. Beside the costs only a few rows of
-    messages and of summed costs per level are kept, instead of four message volumes and
-    the beliefs.
+    messages and of summed costs per level are kept, instead of the beliefs of the
+    whole frame.
 
     Parameters
     ----------
@@ -354,12 +481,13 @@ def bp_strips(
     right, down = smoothness_weights(
         cost, guide, smoothing=smoothing, smoothing2=smoothing2, colour_scale=colour_scale
     )
+    _check_options(truncation, scales, iterations)
+    yield from _belief_strips(cost, right, down, truncation, scales, iterations, strip_rows)
+
+
+def _belief_strips(cost, right, down, truncation, scales, iterations, strip_rows, beliefs=None):
+    # (y0, beliefs of rows y0 .. y0 + strip_rows - 1), written into beliefs when given
     rows, cols, _levels = cost.shape
-    if truncation < 1 or scales < 1 or iterations < 1:
-        raise ValueError(
-            f"truncation, scales and iterations must be at least 1, got "
-            f"{truncation}, {scales}, {iterations}"
-        )
     # the pyramid's sizes and weights (small); its data costs come band by band
     shapes = [(rows, cols)]
     weights = [(np.ascontiguousarray(right, np.float32), np.ascontiguousarray(down, np.float32))]
@@ -373,12 +501,11 @@ def bp_strips(
         finest = _Level(level, data, weights[level], finest, np.float32(truncation), iterations)
     for y0 in range(0, rows, strip_rows):
         y1 = min(rows, y0 + strip_rows)
-        beliefs = _beliefs(
-            cost[y0:y1],
-            finest.final(y0, y1),
-            np.empty((y1 - y0,) + cost.shape[1:], np.float32),
+        finest.final(y0, y1)
+        strip = (
+            np.empty((y1 - y0,) + cost.shape[1:], np.float32) if beliefs is None else beliefs[y0:y1]
         )
-        yield y0, beliefs
+        yield y0, _beliefs(finest.costs, finest.messages, finest.start, y0, strip)
 
 
 def bp_winners(
@@ -419,9 +546,9 @@ def bp_winners(
 
 class _DataBands:
     # The pyramid's data costs a band of rows at a time, each coarse row summed once from
-    # the finer level's rows as _coarser sums them. Two readers walk down each coarse
-    # level, its own sweep (_Level) and the summing of the level below it, each asking
-    # for rows no higher than it asked last; the rows above both are dropped.
+    # the finer level's rows, a 2x2 block of pixels into one. Two readers walk down each
+    # coarse level, its own sweep (_Level) and the summing of the level below it, each
+    # asking for rows no higher than it asked last; the rows above both are dropped.
     def __init__(self, cost, shapes):
         self.cost, self.shapes = cost, shapes
         self.chunks = [[] for _ in shapes]  # (first row, rows) of each coarse level
@@ -458,43 +585,62 @@ class _Level:
     # front on to b gives each row between the two staircases its missing half-sweeps,
     # in order, once. The rows swept are kept from the first one asked for down to the
     # first row still untouched, whose messages start, as each row's do, from the
-    # coarser level's final ones (zero at the coarsest level).
+    # coarser level's final ones (zero at the coarsest level). A band's first and last
+    # rows are only updated where they are the grid's (its staircase starts below the
+    # first and stops above the last), so the level's weights serve every band.
     def __init__(self, level, data, weights, coarser, truncation, iterations):
         self.level, self.data, self.coarser = level, data, coarser
-        self.right, self.down = weights
+        self.weights = tuple(_weights_by_colour(*weights))
         self.rows, self.cols = data.shapes[level]
         self.truncation, self.iterations = truncation, iterations
         self.front, self.start = -iterations, 0
-        self.messages = np.empty((4, 0, self.cols, data.cost.shape[2]), np.float32)
+        shape = (2, data.cost.shape[2], self.cols // 2 + 2)
+        self.messages = tuple(np.empty(shape, np.float32) for _ in range(8))
+        self.costs = tuple(np.empty(shape, np.float32) for _ in range(2))
 
     def final(self, a, b):
-        # the final messages of rows a .. b - 1, a and b no lower than in the last call
+        # Make the messages of rows a .. b - 1 final, a and b no lower than in the last
+        # call: then self.messages and self.costs hold them and their data costs, in the
+        # layout of the sweeps, in a band of rows from image row self.start on.
         if b > self.front:
             start = max(0, min(a, self.front))
             end = min(self.rows, b + self.iterations + 1)
-            kept = self.start + self.messages.shape[1]
+            kept = self.start + self.costs[0].shape[0] - 2
             # the band moves down: its kept rows go up in place when its size stays (the
             # finest level's strips), so that no second band is alive meanwhile
-            shape = (4, end - start) + self.messages.shape[2:]
-            messages = (
-                self.messages if self.messages.shape == shape else np.empty(shape, np.float32)
+            shape = (end - start + 2,) + self.costs[0].shape[1:]
+            held = self.messages + self.costs
+            band = (
+                held if held[0].shape == shape else tuple(np.empty(shape, np.float32) for _ in held)
             )
-            messages[:, : kept - start] = self.messages[:, start - self.start : kept - self.start]
+            for rows, kept_rows in zip(band, held):
+                rows[1 : 1 + kept - start] = kept_rows[
+                    1 + start - self.start : 1 + kept - self.start
+                ]
+            messages, costs = band[:8], band[8:]
+            if end > kept:
+                _into_colours(
+                    self.data.rows(self.level, kept, end, reader=0), kept, costs, kept - start
+                )
             if self.coarser is None:
-                messages[:, kept - start :] = 0
+                for rows in messages:
+                    rows[1 + kept - start : 1 + end - start] = 0
             else:
-                c0, c1 = kept // 2, (end - 1) // 2 + 1
-                _finer_messages(self.coarser.final(c0, c1), messages[:, kept - start :], kept, c0)
+                coarser = self.coarser
+                coarser.final(kept // 2, (end - 1) // 2 + 1)
+                _finer_messages(
+                    coarser.messages, coarser.start, messages, start, kept, end, self.cols
+                )
             _iterate(
-                np.ascontiguousarray(self.data.rows(self.level, start, end, reader=0)),
-                self.right[start:end],
-                self.down[start : end - 1],
+                costs,
                 messages,
+                tuple(weights[start : end + 2] for weights in self.weights),
                 self.truncation,
                 self.iterations,
                 start,
                 self.front + self.iterations - start,
                 b + self.iterations - start,
+                self.cols,
+                numba.config.NUMBA_NUM_THREADS,
             )
-            self.messages, self.start, self.front = messages, start, b
-        return self.messages[:, a - self.start : b - self.start]
+            self.messages, self.costs, self.start, self.front = messages, costs, start, b
