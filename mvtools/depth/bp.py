@@ -324,6 +324,29 @@ def _beliefs(costs, messages, first, row_offset, beliefs):
     return beliefs
 
 
+@njit(cache=True, nogil=True, parallel=True)
+def _block_sums(costs):
+    # The coarser level's data costs: each 2x2 block of pixels summed, level by level,
+    # a block cut by the grid's edge over the pixels it has; as _pair_sum along the
+    # rows and then along the columns adds them, so the same float32 values.
+    rows, columns, levels = costs.shape
+    zero = np.float32(0)
+    sums = np.empty(((rows + 1) // 2, (columns + 1) // 2, levels), np.float32)
+    for y in prange(sums.shape[0]):
+        below = 2 * y + 1 < rows
+        for x in range(sums.shape[1]):
+            beside = 2 * x + 1 < columns
+            for d in range(levels):
+                first = costs[2 * y, 2 * x, d] + (costs[2 * y + 1, 2 * x, d] if below else zero)
+                second = zero
+                if beside:
+                    second = costs[2 * y, 2 * x + 1, d] + (
+                        costs[2 * y + 1, 2 * x + 1, d] if below else zero
+                    )
+                sums[y, x, d] = first + second
+    return sums
+
+
 def _pair_sum(array: np.ndarray, axis: int) -> np.ndarray:
     # sum of consecutive pairs along an axis, an odd last element standing alone
     if array.shape[axis] % 2:
@@ -568,7 +591,7 @@ class _DataBands:
         held = chunks[-1][0] + chunks[-1][1].shape[0] if chunks else 0
         if r1 > held:
             finer = self.rows(level - 1, 2 * held, min(2 * r1, self.shapes[level - 1][0]), reader=1)
-            chunks.append((held, _pair_sum(_pair_sum(finer, 0), 1)))
+            chunks.append((held, _block_sums(finer)))
         parts = [
             band[max(0, r0 - first) : r1 - first]
             for first, band in chunks
