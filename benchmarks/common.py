@@ -34,13 +34,24 @@ def run_measured(
 
 def median_seconds(function: Callable[[], object], *, repeats: int = 10) -> float:
     """Median wall time of ``repeats`` calls, after one warm-up call."""
-    function()
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
+    return interleaved_median_seconds([function], repeats=repeats)[0]
+
+
+def interleaved_median_seconds(
+    functions: list[Callable[[], object]], *, repeats: int = 10
+) -> list[float]:
+    """Median wall time of each function over ``repeats`` rounds that call them all in
+    turn, after a warm-up call of each: the load of a shared machine, which changes from
+    second to second, weighs on a figure and on its baseline alike."""
+    for function in functions:
         function()
-        times.append(time.perf_counter() - start)
-    return statistics.median(times)
+    times = [[] for _ in functions]
+    for _ in range(repeats):
+        for function, taken in zip(functions, times):
+            start = time.perf_counter()
+            function()
+            taken.append(time.perf_counter() - start)
+    return [statistics.median(taken) for taken in times]
 
 
 def report(rows: list[tuple[str, float, str, float | None]]) -> None:
