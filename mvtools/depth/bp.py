@@ -24,6 +24,10 @@ COLOUR_SCALE = 10.0
 SCALES = 5
 ITERATIONS = 5
 
+# Rows of the finest level per strip of the sweeps (see bp_strips): the messages alive
+# are a band of about this many rows plus the iterations.
+_STRIP_ROWS = 16
+
 # Incoming-message slots: the message a pixel received from its neighbour above,
 # below, on the left and on the right.
 _FROM_UP, _FROM_DOWN, _FROM_LEFT, _FROM_RIGHT = 0, 1, 2, 3
@@ -410,7 +414,9 @@ def belief_propagation(
         )
     _check_options(truncation, scales, iterations)
     beliefs = cost if overwrite else np.empty_like(cost)
-    for _ in _belief_strips(cost, right, down, truncation, scales, iterations, 16, beliefs):
+    for _ in _belief_strips(
+        cost, right, down, truncation, scales, iterations, _STRIP_ROWS, beliefs
+    ):
         pass
     return beliefs
 
@@ -473,7 +479,7 @@ def bp_strips(
     colour_scale: float = COLOUR_SCALE,
     scales: int = SCALES,
     iterations: int = ITERATIONS,
-    strip_rows: int = 16,
+    strip_rows: int = _STRIP_ROWS,
 ):
     """The ``bp`` method's volume (its beliefs) a strip of rows at a time, top to bottom.
 
@@ -536,7 +542,7 @@ def bp_winners(
     guide: np.ndarray,
     *,
     min_disparity: int = 0,
-    strip_rows: int = 16,
+    strip_rows: int = _STRIP_ROWS,
     **options,
 ) -> tuple[np.ndarray, np.ndarray]:
     """The ``bp`` method's winner-takes-all levels of both views, without its volume:
