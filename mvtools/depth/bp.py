@@ -32,17 +32,18 @@ _STRIP_ROWS = 16
 # below, on the left and on the right.
 _FROM_UP, _FROM_DOWN, _FROM_LEFT, _FROM_RIGHT = 0, 1, 2, 3
 
-# The layout of a band of rows: every pixel has a colour, the checkerboard class
-# (x + y) % 2 of its image coordinates, and a half-sweep updates the pixels of one
-# colour from the messages the other colour sent them. So the messages are held as
-# eight arrays, one per colour and slot (index 4 * colour + slot), and the data costs
-# as two, one per colour, each of shape (rows + 2, levels, columns // 2 + 2), pixel
-# (y, x) of a band whose first row is image row y0 at [y - y0 + 1, :, x // 2 + 1]. A
-# half-sweep then reads arrays distinct from those it writes (numba passes a parallel
-# loop's distinct arrays to LLVM as not aliased), and the pixels of a row that it
-# updates lie side by side at every level: the update vectorises across them, each
-# pixel's chain of levels in a lane of its own. The first and last rows and columns
-# take the messages sent across the grid's edges, which nobody reads.
+# The layout of a band of rows' messages: every pixel has a colour, the checkerboard
+# class (x + y) % 2 of its image coordinates, and a half-sweep updates the pixels of
+# one colour from the messages the other colour sent them. So the messages are held as
+# eight arrays, one per colour and slot (index 4 * colour + slot), each of shape
+# (rows + 2, levels, columns // 2 + 2), pixel (y, x) of a band whose first row is image
+# row y0 at [y - y0 + 1, :, x // 2 + 1]. A half-sweep then reads arrays distinct from
+# those it writes (numba passes a parallel loop's distinct arrays to LLVM as not
+# aliased), and the pixels of a row that it updates lie side by side at every level:
+# the update vectorises across them, each pixel's chain of levels in a lane of its own
+# (their data costs, read in the costs' own layout, are the one gathered load). The
+# first and last rows and columns take the messages sent across the grid's edges,
+# which nobody reads.
 
 
 @njit(cache=True, nogil=True, parallel=True)
@@ -75,7 +76,8 @@ def _half_sweep(
     stop,
     columns,
 ):
-    # Rows first .. stop - 1 (padded) of one colour send their messages: to_up(d) =
+    # Rows first .. stop - 1 (padded) of one colour send their messages, data holding
+    # the band's data costs (rows, columns, levels) from row 0 on: to_up(d) =
     # min_e [h(e) + w min(|d - e|, T)] with h = data + all incoming messages but the
     # one from above, by the two-pass distance transform of the linear term, capped at
     # min h + w T and shifted to a minimum of 0 so that messages stay bounded; to_up
@@ -85,7 +87,7 @@ def _half_sweep(
     # writing it back in place (a masked store once vectorised, slow on some
     # processors). Each value gets the same float operations, in the same order and
     # types, as one pixel's messages at a time.
-    levels = data.shape[1]
+    levels = data.shape[2]
     top = levels - 1
     last = top % 2
     for y in prange(first, stop):
@@ -98,7 +100,7 @@ def _half_sweep(
             a1 = own_down[y, 0, j]
             a2 = own_left[y, 0, j]
             a3 = own_right[y, 0, j]
-            total = data[y, 0, j] + a0 + a1 + a2 + a3
+            total = data[y - 1, 2 * j - 2 + parity, 0] + a0 + a1 + a2 + a3
             lowest_up[thread, 0, j] = to_up[y - 1, 0, j] = total - a0
             lowest_down[thread, 0, j] = to_down[y + 1, 0, j] = total - a1
             lowest_left[thread, 0, j] = to_left[y, 0, j - 1 + parity] = total - a2
@@ -110,7 +112,7 @@ def _half_sweep(
                 a1 = own_down[y, d, j]
                 a2 = own_left[y, d, j]
                 a3 = own_right[y, d, j]
-                total = data[y, d, j] + a0 + a1 + a2 + a3
+                total = data[y - 1, 2 * j - 2 + parity, d] + a0 + a1 + a2 + a3
                 h0 = total - a0
                 h1 = total - a1
                 h2 = total - a2
@@ -192,7 +194,7 @@ def _iterate(
     # one half-sweep more than the rows below, which is all that a row's update needs
     # (its neighbours' previous half-sweep, not yet their next one), so a level can be
     # swept a band at a time, each row updated once per half-sweep (see _Level).
-    rows, width = data[0].shape[0] - 2, data[0].shape[2]
+    rows, width = data.shape[0], messages[0].shape[2]
     # each thread's running minima and backward values, this level's and the last's
     scratch = [np.empty((threads, 2, width), np.float32) for _ in range(8)]
     for iteration in range(iterations):
@@ -203,7 +205,7 @@ def _iterate(
         end = min(rows, stop - iteration)
         if begin < end:
             _half_sweep(
-                data[colour],
+                data,
                 messages[own + _FROM_UP],
                 messages[own + _FROM_DOWN],
                 messages[own + _FROM_LEFT],
@@ -231,25 +233,6 @@ def _iterate(
                 end + 1,
                 columns,
             )
-
-
-# Columns per block of _into_colours: the levels of a block's pixels of one colour,
-# read a pixel at a time and written a level at a time, stay in the first-level cache.
-_BLOCK = 64
-
-
-@njit(cache=True, nogil=True, parallel=True)
-def _into_colours(volume, row_offset, split, at):
-    # data costs of shape (rows, columns, levels) from image row row_offset into the
-    # two colours' arrays of a band, from its row at on
-    rows, columns, levels = volume.shape
-    for y in prange(rows):
-        for parity in range(2):
-            into = split[(parity + y + row_offset) % 2]
-            for x0 in range(parity, columns, _BLOCK):
-                for d in range(levels):
-                    for x in range(x0, min(columns, x0 + _BLOCK), 2):
-                        into[at + y + 1, d, x // 2 + 1] = volume[y, x, d]
 
 
 @njit(cache=True, nogil=True)
@@ -298,25 +281,25 @@ def _finer_messages(coarse, coarse_first, fine, fine_first, begin, end, columns)
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _beliefs(costs, messages, first, row_offset, beliefs):
-    # the beliefs of image rows row_offset .. into beliefs, of shape (rows, columns,
-    # levels), from a band whose row 0 is image row first: summed a row's pixels of
-    # one colour at a time, side by side, then laid out a pixel at a time
-    rows, columns, levels = beliefs.shape
+def _beliefs(data, messages, first, row_offset, beliefs):
+    # the beliefs of image rows row_offset .. from their data costs, both of shape
+    # (rows, columns, levels), and the messages of a band whose row 0 is image row
+    # first: summed a row's pixels of one colour at a time, side by side, then laid out
+    # a pixel at a time; each element of data is read before it is written, so beliefs
+    # may be data itself
+    rows, columns, levels = data.shape
     for y in prange(rows):
         at = y + row_offset - first + 1
-        summed = np.empty((levels, costs[0].shape[2]), np.float32)
+        summed = np.empty((levels, messages[0].shape[2]), np.float32)
         for parity in range(2):
-            colour = (parity + y + row_offset) % 2
-            data = costs[colour]
-            up, down = messages[4 * colour + _FROM_UP], messages[4 * colour + _FROM_DOWN]
-            left = messages[4 * colour + _FROM_LEFT]
-            right = messages[4 * colour + _FROM_RIGHT]
+            colour = 4 * ((parity + y + row_offset) % 2)
+            up, down = messages[colour + _FROM_UP], messages[colour + _FROM_DOWN]
+            left, right = messages[colour + _FROM_LEFT], messages[colour + _FROM_RIGHT]
             count = (columns - parity + 1) // 2
             for d in range(levels):
                 for j in range(1, count + 1):
                     summed[d, j] = (
-                        data[at, d, j]
+                        data[y, 2 * j - 2 + parity, d]
                         + up[at, d, j]
                         + down[at, d, j]
                         + left[at, d, j]
@@ -534,7 +517,7 @@ def _belief_strips(cost, right, down, truncation, scales, iterations, strip_rows
         strip = (
             np.empty((y1 - y0,) + cost.shape[1:], np.float32) if beliefs is None else beliefs[y0:y1]
         )
-        yield y0, _beliefs(finest.costs, finest.messages, finest.start, y0, strip)
+        yield y0, _beliefs(cost[y0:y1], finest.messages, finest.start, y0, strip)
 
 
 def bp_winners(
@@ -625,32 +608,27 @@ class _Level:
         self.front, self.start = -iterations, 0
         shape = (2, data.cost.shape[2], self.cols // 2 + 2)
         self.messages = tuple(np.empty(shape, np.float32) for _ in range(8))
-        self.costs = tuple(np.empty(shape, np.float32) for _ in range(2))
 
     def final(self, a, b):
         # Make the messages of rows a .. b - 1 final, a and b no lower than in the last
-        # call: then self.messages and self.costs hold them and their data costs, in the
-        # layout of the sweeps, in a band of rows from image row self.start on.
+        # call: then self.messages holds them, in the layout of the sweeps, in a band of
+        # rows from image row self.start on.
         if b > self.front:
             start = max(0, min(a, self.front))
             end = min(self.rows, b + self.iterations + 1)
-            kept = self.start + self.costs[0].shape[0] - 2
+            kept = self.start + self.messages[0].shape[0] - 2
             # the band moves down: its kept rows go up in place when its size stays (the
             # finest level's strips), so that no second band is alive meanwhile
-            shape = (end - start + 2,) + self.costs[0].shape[1:]
-            held = self.messages + self.costs
-            band = (
-                held if held[0].shape == shape else tuple(np.empty(shape, np.float32) for _ in held)
+            shape = (end - start + 2,) + self.messages[0].shape[1:]
+            messages = (
+                self.messages
+                if self.messages[0].shape == shape
+                else tuple(np.empty(shape, np.float32) for _ in range(8))
             )
-            for rows, kept_rows in zip(band, held):
+            for rows, kept_rows in zip(messages, self.messages):
                 rows[1 : 1 + kept - start] = kept_rows[
                     1 + start - self.start : 1 + kept - self.start
                 ]
-            messages, costs = band[:8], band[8:]
-            if end > kept:
-                _into_colours(
-                    self.data.rows(self.level, kept, end, reader=0), kept, costs, kept - start
-                )
             if self.coarser is None:
                 for rows in messages:
                     rows[1 + kept - start : 1 + end - start] = 0
@@ -661,7 +639,7 @@ class _Level:
                     coarser.messages, coarser.start, messages, start, kept, end, self.cols
                 )
             _iterate(
-                costs,
+                np.ascontiguousarray(self.data.rows(self.level, start, end, reader=0)),
                 messages,
                 tuple(weights[start : end + 2] for weights in self.weights),
                 self.truncation,
@@ -672,4 +650,4 @@ class _Level:
                 self.cols,
                 numba.config.NUMBA_NUM_THREADS,
             )
-            self.messages, self.costs, self.start, self.front = messages, costs, start, b
+            self.messages, self.start, self.front = messages, start, b
