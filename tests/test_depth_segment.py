@@ -21,6 +21,7 @@ from mvtools.depth.plane_selection import (
 )
 from mvtools.depth.segment import (
     _grouped_by_segment,
+    _median_slope,
     fill_from_planes,
     fit_segment_planes,
     plane_disparity,
@@ -278,6 +279,49 @@ def test_the_graph_edges_are_each_8_connected_pair_once_with_its_colour_distance
     expected = [np.sqrt(((colour[a] - colour[b]) ** 2).sum(axis=2)).ravel() for a, b in ends]
     np.testing.assert_allclose(weight, np.concatenate(expected), rtol=1e-6)
     assert len(first) == 6 * 5 + 4 * 7 + 2 * 4 * 6  # 8-connected pairs of a 5 x 7 grid
+
+
+def _median_slope_by_definition(along, across, values, max_slope, max_pairs):
+    # every pair of pixels of a line, 2 or more apart, in order, the first max_pairs of
+    # them; the median of their slopes to 1/256 over [-max_slope, max_slope)
+    slopes = [
+        (values[j] - values[i]) / (along[j] - along[i])
+        for i in range(len(along))
+        for j in range(i + 1, len(along))
+        if across[j] == across[i] and along[j] - along[i] >= 2
+    ][:max_pairs]
+    step = 1 / 256
+    bins = [int((slope + max_slope) / step) for slope in slopes]
+    bins = sorted(b for b in bins if 0 <= b < int(512 * max_slope))
+    if not bins:
+        return 0.0
+    return -max_slope + (bins[(len(bins) - 1) // 2] + 0.5) * step
+
+
+@pytest.mark.parametrize("max_pairs", [1, 7, 40, 100_000])
+@pytest.mark.parametrize("kind", ["whole", "quarter", "runs"])
+def test_median_slope_counts_runs_as_every_pair_would(kind, max_pairs):
+    # the slopes are counted run by run (equal values on neighbouring pixels) when a
+    # line fits under max_pairs, pair by pair otherwise: the same median as every pair
+    rng = np.random.default_rng(len(kind) + max_pairs)
+    for _ in range(40):
+        across = np.sort(rng.integers(0, 4, rng.integers(3, 60))).astype(np.float64)
+        along = np.empty_like(across)
+        for line in np.unique(across):
+            on_line = across == line
+            along[on_line] = np.sort(rng.choice(90, on_line.sum(), replace=False))
+        slope = rng.uniform(-0.7, 0.7)
+        values = {
+            "whole": np.rint(
+                slope * along + rng.integers(-2, 3, along.size) * (rng.random() < 0.5)
+            ),
+            "quarter": np.rint(slope * along * 4 + rng.integers(-6, 7, along.size)) / 4,
+            "runs": np.repeat(rng.integers(0, 9, along.size)[::5], 5)[: along.size] * 1.0,
+        }[kind]
+        max_slope = float(rng.choice([0.5, 1.0]))
+        assert _median_slope(along, across, values, max_slope, max_pairs) == (
+            _median_slope_by_definition(along, across, values, max_slope, max_pairs)
+        )
 
 
 def test_pixels_grouped_by_segment_as_a_stable_sort_would():

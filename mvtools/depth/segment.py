@@ -14,42 +14,88 @@ __all__ = ["fill_from_planes", "fit_segment_planes", "plane_disparity", "trusted
 
 
 @njit(cache=True, nogil=True)
-def _histogram_median(values, count, lowest, step, bins):
-    histogram = np.zeros(bins, np.int64)
-    for i in range(count):
-        b = int((values[i] - lowest) / step)
-        if 0 <= b < bins:
-            histogram[b] += 1
+def _median_slope(along, across, values, max_slope, max_pairs):
+    # Median, to 1/256, of the slopes between pixel pairs on one line (equal ``across``)
+    # of the segment, pixels sorted by (across, along), over the first ``max_pairs``
+    # pairs in that order; pairs closer than 2 pixels carry mostly quantisation noise.
+    # A line whose pairs all count is read run by run (_add_run_pairs); one that
+    # reaches max_pairs pair by pair up to it.
+    lowest, step = -max_slope, 1.0 / 256
+    histogram = np.zeros(int(512 * max_slope), np.int64)
+    run_starts = np.empty(along.size + 1, np.int64)
+    counted = 0
+    line = 0
+    while line < along.size and counted < max_pairs:
+        end = line
+        while end < along.size and across[end] == across[line]:
+            end += 1
+        runs, pairs = _line_runs(along, values, line, end, run_starts)
+        if counted + pairs <= max_pairs:
+            _add_run_pairs(histogram, along, values, run_starts, runs, lowest, step)
+            counted += pairs
+        else:
+            for i in range(line, end):
+                for j in range(i + 1, end):
+                    distance = along[j] - along[i]
+                    if distance >= 2 and counted < max_pairs:
+                        _add_slope(histogram, values[j] - values[i], distance, 1, lowest, step)
+                        counted += 1
+        line = end
     total = histogram.sum()
-    if total == 0:
-        return 0.0
     running = 0
-    for b in range(bins):
+    for b in range(histogram.size):
         running += histogram[b]
-        if 2 * running >= total:
+        if 2 * running >= total > 0:
             return lowest + (b + 0.5) * step
     return 0.0
 
 
 @njit(cache=True, nogil=True)
-def _median_slope(along, across, values, start, stop, max_slope, buffer):
-    # Median of the slopes between pixel pairs on one line (equal ``across``) of the
-    # segment, pixels sorted by (across, along); pairs closer than 2 pixels carry
-    # mostly quantisation noise.
-    count = 0
-    line = start
-    while line < stop:
-        end = line
-        while end < stop and across[end] == across[line]:
-            end += 1
-        for i in range(line, end):
-            for j in range(i + 1, end):
-                distance = along[j] - along[i]
-                if distance >= 2 and count < buffer.size:
-                    buffer[count] = (values[j] - values[i]) / distance
-                    count += 1
-        line = end
-    return _histogram_median(buffer, count, -max_slope, 1.0 / 256, int(512 * max_slope))
+def _line_runs(along, values, line, end, run_starts):
+    # The runs of equal values on neighbouring pixels of the line line..end, their
+    # first indices into run_starts (then end), and the line's pairs 2 or more apart
+    runs = 0
+    neighbours = 0
+    for index in range(line, end):
+        touching = index > line and along[index] - along[index - 1] == 1
+        if touching:
+            neighbours += 1
+        if not (touching and values[index] == values[index - 1]):
+            run_starts[runs] = index
+            runs += 1
+    run_starts[runs] = end
+    return runs, (end - line) * (end - line - 1) // 2 - neighbours
+
+
+@njit(cache=True, nogil=True)
+def _add_run_pairs(histogram, along, values, run_starts, runs, lowest, step):
+    # Every pair 2 or more apart of a line's runs, counted as _add_slope would one by
+    # one: the pairs within a run, or between two runs, at one distance share their
+    # slope, so the time is linear in the runs' lengths rather than in their pairs.
+    for first in range(runs):
+        a0, a1 = run_starts[first], run_starts[first + 1] - 1
+        for distance in range(2, a1 - a0 + 1):
+            _add_slope(histogram, 0.0, distance, a1 - a0 + 1 - distance, lowest, step)
+        for second in range(first + 1, runs):
+            b0, b1 = run_starts[second], run_starts[second + 1] - 1
+            rise = values[b0] - values[a0]
+            for distance in range(
+                max(int(along[b0] - along[a1]), 2), int(along[b1] - along[a0]) + 1
+            ):
+                # pixels of the first run whose partner at this distance is in the second
+                overlap = min(along[a1], along[b1] - distance) - max(
+                    along[a0], along[b0] - distance
+                )
+                if overlap >= 0:
+                    _add_slope(histogram, rise, distance, int(overlap) + 1, lowest, step)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _add_slope(histogram, rise, distance, pairs, lowest, step):
+    # ``pairs`` pairs of slope rise / distance into the histogram's 1/256 bins from lowest
+    b = int((rise / distance - lowest) / step)
+    if 0 <= b < histogram.size:
+        histogram[b] += pairs
 
 
 @njit(cache=True, nogil=True)
@@ -98,19 +144,16 @@ def _fit_planes(
             continue
         rows_sorted = order_by_row[start:stop]
         columns_sorted = order_by_column[start:stop]
-        buffer = np.empty(max_pairs, np.float64)
         xs = (rows_sorted % cols).astype(np.float64)
         ys = (rows_sorted // cols).astype(np.float64)
         ds = disparity[rows_sorted]
-        a = _median_slope(xs, ys, ds, 0, stop - start, max_slope, buffer)
+        a = _median_slope(xs, ys, ds, max_slope, max_pairs)
         b = _median_slope(
             (columns_sorted // cols).astype(np.float64),
             (columns_sorted % cols).astype(np.float64),
             disparity[columns_sorted],
-            0,
-            stop - start,
             max_slope,
-            buffer,
+            max_pairs,
         )
         c = np.median(ds - a * xs - b * ys)
         n = 0
