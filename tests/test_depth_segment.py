@@ -15,6 +15,7 @@ from mvtools.depth import estimate_disparity
 from mvtools.depth.cost import ad_census_cost
 from mvtools.depth.oversegment import plane_segments, segment_image
 from mvtools.depth.plane_selection import (
+    _WindowCost,
     refine_on_segment_planes,
     select_segment_planes,
     trim_fattening,
@@ -322,6 +323,41 @@ def test_median_slope_counts_runs_as_every_pair_would(kind, max_pairs):
         assert _median_slope(along, across, values, max_slope, max_pairs) == (
             _median_slope_by_definition(along, across, values, max_slope, max_pairs)
         )
+
+
+def test_window_costs_are_colour_weighted_means_of_interpolated_costs():
+    # both plane tests compare a pixel's window cost on its plane and at its disparity,
+    # computed together: each is, from the definition, the mean over the window (cut at
+    # the border) of the costs linearly interpolated at the fractional level, weighted by
+    # exp(-(summed absolute colour difference) / sigma); the worst cost beyond the range
+    rng = np.random.default_rng(3)
+    rows, cols, levels, radius, sigma = 9, 11, 6, 2, 20.0
+    cost = rng.uniform(0, 50, (rows, cols, levels)).astype(np.float32)
+    guide = rng.integers(0, 256, (rows, cols, 3))
+    pixels = np.arange(rows * cols)
+    min_disparity, step = 3.0, 0.5
+    top = min_disparity + (levels - 1) * step
+    on_planes = rng.uniform(min_disparity - 1, top + 1, pixels.size)
+    disparities = rng.choice(
+        [min_disparity - 0.5, min_disparity, 4.25, 5.5, top, top + 0.25], pixels.size
+    )
+    window_cost = _WindowCost(cost, guide, min_disparity, step, radius, sigma)
+    measured = window_cost(pixels, on_planes, disparities)
+    for values, result in zip((on_planes, disparities), measured, strict=True):
+        for pixel, value, got in zip(pixels, values, result, strict=True):
+            y, x = divmod(int(pixel), cols)
+            level = (value - min_disparity) / step
+            if not 0 <= level <= levels - 1:
+                assert got == cost.max()
+                continue
+            window = np.s_[max(0, y - radius) : y + radius + 1, max(0, x - radius) : x + radius + 1]
+            weight = np.exp(-np.abs(guide[window] - guide[y, x]).sum(axis=2) / sigma)
+            below = min(int(level), levels - 2)
+            fraction = level - below
+            interpolated = (1 - fraction) * cost[window][..., below] + fraction * cost[window][
+                ..., below + 1
+            ]
+            assert got == pytest.approx((weight * interpolated).sum() / weight.sum(), rel=1e-9)
 
 
 def test_pixels_grouped_by_segment_as_a_stable_sort_would():

@@ -37,48 +37,56 @@ JUMP = 1.0
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _window_cost(cost, guide, y, x, level, radius, weight_table, outside):
-    # Colour-weighted mean over the window of the costs at a fractional level, linearly
-    # interpolated between the two integer levels around it.
-    rows, cols, levels = cost.shape
+def _level_between(level, levels):
+    # the integer levels below and above a fractional level within the costs' range,
+    # its fraction past below, and whether it lies in the range at all
     if not 0.0 <= level <= levels - 1:
-        return outside
+        return 0, 0, 0.0, False
     below = min(int(level), max(levels - 2, 0))
-    fraction = level - below
-    above = min(below + 1, levels - 1)
-    total = 0.0
-    weights = 0.0
-    for wy in range(max(0, y - radius), min(rows, y + radius + 1)):
-        for wx in range(max(0, x - radius), min(cols, x + radius + 1)):
-            weight = weight_table[
-                abs(guide[wy, wx, 0] - guide[y, x, 0])
-                + abs(guide[wy, wx, 1] - guide[y, x, 1])
-                + abs(guide[wy, wx, 2] - guide[y, x, 2])
-            ]
-            total += weight * (
-                (1.0 - fraction) * cost[wy, wx, below] + fraction * cost[wy, wx, above]
-            )
-            weights += weight
-    return total / weights
+    return below, min(below + 1, levels - 1), level - below, True
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _interpolated(cost, y, x, below, above, fraction):
+    # pixel (y, x)'s cost at a fractional level, linear between the levels around it
+    return (1.0 - fraction) * cost[y, x, below] + fraction * cost[y, x, above]
 
 
 @njit(cache=True, nogil=True, parallel=True)
-def _window_costs(cost, guide, pixels, levels, radius, weight_table, outside):
-    # the colour-weighted window cost of each listed (flat-indexed) pixel at its level
-    cols = guide.shape[1]
-    costs = np.empty(pixels.size, np.float64)
+def _window_costs(cost, guide, pixels, planes, owns, radius, weight_table, outside):
+    # Colour-weighted means over each listed (flat-indexed) pixel's window of the costs
+    # at two fractional levels, its plane's and its own, each linearly interpolated
+    # between the two integer levels around it; the window's weights, the same for both,
+    # are read once.
+    rows, cols, levels = cost.shape
+    on_plane = np.empty(pixels.size, np.float64)
+    own = np.empty(pixels.size, np.float64)
     for i in prange(pixels.size):
-        costs[i] = _window_cost(
-            cost,
-            guide,
-            pixels[i] // cols,
-            pixels[i] % cols,
-            levels[i],
-            radius,
-            weight_table,
-            outside,
-        )
-    return costs
+        y, x = pixels[i] // cols, pixels[i] % cols
+        plane_below, plane_above, plane_fraction, plane_inside = _level_between(planes[i], levels)
+        own_below, own_above, own_fraction, own_inside = _level_between(owns[i], levels)
+        plane_total = 0.0
+        own_total = 0.0
+        weights = 0.0
+        if plane_inside or own_inside:
+            for wy in range(max(0, y - radius), min(rows, y + radius + 1)):
+                for wx in range(max(0, x - radius), min(cols, x + radius + 1)):
+                    weight = weight_table[
+                        abs(guide[wy, wx, 0] - guide[y, x, 0])
+                        + abs(guide[wy, wx, 1] - guide[y, x, 1])
+                        + abs(guide[wy, wx, 2] - guide[y, x, 2])
+                    ]
+                    plane_total += weight * _interpolated(
+                        cost, wy, wx, plane_below, plane_above, plane_fraction
+                    )
+                    own_total += weight * _interpolated(
+                        cost, wy, wx, own_below, own_above, own_fraction
+                    )
+                    weights += weight
+        # beyond the searched range a disparity costs as much as the worst match
+        on_plane[i] = plane_total / weights if plane_inside else outside
+        own[i] = own_total / weights if own_inside else outside
+    return on_plane, own
 
 
 class _WindowCost:
@@ -108,13 +116,19 @@ class _WindowCost:
         top = self.min_disparity + (self.cost.shape[2] - 1) * self.step
         return (disparities >= self.min_disparity) & (disparities <= top)
 
-    def __call__(self, pixels, disparities):
-        # pixels: flat indices; disparities: one per pixel
+    def __call__(self, pixels, on_planes, disparities):
+        # pixels: flat indices; the pixels' window costs on their planes and at their
+        # disparities, one of each per pixel
+        plane_levels, own_levels = (
+            (np.asarray(values, np.float64) - self.min_disparity) / self.step
+            for values in (on_planes, disparities)
+        )
         return _window_costs(
             self.cost,
             self.colour,
             np.asarray(pixels, np.int64),
-            (np.asarray(disparities, np.float64) - self.min_disparity) / self.step,
+            plane_levels,
+            own_levels,
             self.radius,
             self.table,
             self.outside,
@@ -321,10 +335,10 @@ def _selected(disparity, valid, labels, window_cost, planes, margin):
     pixels = np.flatnonzero((valid & np.isfinite(disparity)).ravel())
     segment_of = labels.ravel()[pixels]
     count = trusted.size
-    on_plane = np.bincount(
-        segment_of, window_cost(pixels, on_planes.ravel()[pixels]), minlength=count
+    on_plane, own = (
+        np.bincount(segment_of, costs, minlength=count)
+        for costs in window_cost(pixels, on_planes.ravel()[pixels], disparity.ravel()[pixels])
     )
-    own = np.bincount(segment_of, window_cost(pixels, disparity.ravel()[pixels]), minlength=count)
     chosen = trusted & (on_plane <= (1.0 + margin) * own)
     replace = chosen[labels] & window_cost.within_range(on_planes)
     return np.where(replace, on_planes, disparity).astype(np.float32), valid | replace
@@ -347,9 +361,8 @@ def _trimmed(disparity, valid, labels, window_cost, planes, margin, reach, jump)
             ).ravel()
         )
     plane_values = on_planes.ravel()[candidates]
-    affordable = window_cost(candidates, plane_values) <= (1.0 + margin) * window_cost(
-        candidates, disparity.ravel()[candidates]
-    )
+    on_plane, own = window_cost(candidates, plane_values, disparity.ravel()[candidates])
+    affordable = on_plane <= (1.0 + margin) * own
     trimmed = disparity.copy()
     trimmed.ravel()[candidates[affordable]] = plane_values[affordable]
     return trimmed
