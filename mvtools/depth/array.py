@@ -138,8 +138,8 @@ def estimate_array_disparity(
     The time is that of one stereo-pair chain per other view, run side by side on the
     cores (:func:`side_by_side`), after the reference's colour segments and every view's
     census signatures (:func:`mvtools.depth.cost.ad_census_signatures`), made once for
-    all the pairs: five views of Tsukuba in 0.29 to 0.31 s on two cores, 1.8 to 1.9
-    times one pair's 0.16 to 0.18 s, timed in turn (1.1 to 1.2 as whole ``mvtools
+    all the pairs: five views of Tsukuba in 0.29 to 0.31 s on two cores, 1.7 to 2.0
+    times one pair's 0.15 to 0.18 s, timed in turn (1.1 to 1.2 as whole ``mvtools
     estimate-depth`` runs, start-up included); as many cost volumes are held at once as
     cores work.
 
