@@ -11,10 +11,15 @@ from shared_data import shared_data
 from mvtools.datasets import load_middlebury_ground_truth, middlebury_pair, score_middlebury
 from mvtools.depth import METHODS, cost, estimate_disparity
 from mvtools.depth.cost import (
+    CENSUS_FEWEST_LIKE,
+    CENSUS_LIKE_COLOUR,
+    ad_census_cost,
+    ad_census_signatures,
     as_colour,
     census_gradient_cost,
     census_gradient_levels,
     census_transform,
+    like_colour_masks,
     support_weights,
 )
 
@@ -196,3 +201,83 @@ def test_census_gradient_levels_are_the_volumes_in_any_order(monkeypatch):
         costs[:] = -1  # a caller's changes reach no other call
     with pytest.raises(ValueError, match="level 10"):
         level(10)
+
+
+def test_like_colour_masks_by_hand():
+    grey = _grey_with_neighbours([90, 100, 110, 70, 130, 100, 100, 100])
+    colour = np.repeat(grey[:, :, None], 3, axis=2)
+    colour[0, 2] = (100, 100, 130)  # the second neighbour, 30 from the centre
+    # summed over the channels: 30, 30, 30, 90, 90, 0, 0, 0 (the grey ones three times)
+    masks = [like_colour_masks(colour, window=(5, 5), step=2, tolerance=t) for t in (29, 30)]
+    assert masks[0].shape == (5, 5) and masks[0].dtype == np.uint64
+    assert int(masks[0][2, 2]) == int("00000111", 2)
+    assert int(masks[1][2, 2]) == int("11100111", 2)
+    # a grey view counts its difference once per channel: 30, 0, 30, 90, 90, 0, 0, 0
+    grey_mask = like_colour_masks(grey, window=(5, 5), step=2, tolerance=29)
+    assert int(grey_mask[2, 2]) == int("01000111", 2)
+
+
+def _ad_census_by_numpy(left, right, *, min_disparity, levels):
+    """AD-census from its definition, a neighbour and a level at a time: the 7x9
+    census of the channel mean (a neighbour darker by more than 0.5 sets its bit),
+    counted over the neighbours whose colour is within CENSUS_LIKE_COLOUR of the
+    centre's in both views when at least CENSUS_FEWEST_LIKE are, over all of them
+    otherwise; edge-replicated views."""
+    offsets = [(dy, dx) for dy in range(-3, 4) for dx in range(-4, 5) if (dy, dx) != (0, 0)]
+    rows, cols, _ = left.shape
+
+    def bits(view):
+        view = view.astype(np.int64)
+        padded = np.pad(view, ((3, 3), (4, 4), (0, 0)), mode="edge")
+        grey, padded_grey = view.sum(axis=2) / 3, padded.sum(axis=2) / 3
+        darker, like = [], []
+        for dy, dx in offsets:
+            neighbour = padded[3 + dy : 3 + dy + rows, 4 + dx : 4 + dx + cols]
+            neighbour_grey = padded_grey[3 + dy : 3 + dy + rows, 4 + dx : 4 + dx + cols]
+            darker.append(neighbour_grey < grey - 0.5)
+            like.append(np.abs(neighbour - view).sum(axis=2) <= CENSUS_LIKE_COLOUR)
+        return np.stack(darker, axis=2), np.stack(like, axis=2)
+
+    (darker_left, like_left), (darker_right, like_right) = bits(left), bits(right)
+    volume = np.full((rows, cols, levels), 0.7)
+    for k in range(levels):
+        for x in range(cols):
+            xr = x - (min_disparity + k)
+            if 0 <= xr < cols:
+                counted = like_left[:, x] & like_right[:, xr]
+                few = counted.sum(axis=1) < CENSUS_FEWEST_LIKE
+                counted[few] = True
+                hamming = (counted & (darker_left[:, x] != darker_right[:, xr])).sum(axis=1)
+                colour = np.abs(left[:, x].astype(int) - right[:, xr]).sum(axis=1)
+                volume[:, x, k] = 2 - np.exp(-hamming / 30) - np.exp(-colour / 3 / 20)
+    return volume
+
+
+def test_ad_census_volume_is_its_formula_on_whole_views():
+    # four levels a channel, 25 apart: neighbours both like and unlike the centre
+    generator = np.random.default_rng(11)
+    texture = (25 * generator.integers(0, 4, (15, 30, 3))).astype(np.uint8)
+    left, right = np.ascontiguousarray(texture[:, :-3]), np.ascontiguousarray(texture[:, 3:])
+    right = right.copy()
+    right[5:9, 10:14] += 6  # a patch the views see differently
+    volume = ad_census_cost(left, right, min_disparity=-2, levels=8)
+    expected = _ad_census_by_numpy(left, right, min_disparity=-2, levels=8)
+    np.testing.assert_allclose(volume, expected, rtol=1e-6, atol=1e-6)
+    # both rules are at work: pixels with fewer like neighbours than the floor and more
+    like = ad_census_signatures(left)[:, :, 1]
+    counts = np.array([bin(int(mask)).count("1") for mask in like.ravel()])
+    assert 0.1 < np.mean(counts < CENSUS_FEWEST_LIKE) < 0.9
+
+
+def test_ad_census_ignores_neighbours_unlike_the_centre():
+    # A grey surface at disparity 2 whose window holds a point of another colour
+    # (another surface) that is brighter than the centre in the left view and darker in
+    # the right one: the whole window's census counts it, AD-census does not.
+    left = np.full((9, 13, 3), 100, np.uint8)
+    right = left.copy()
+    left[4, 8] = (250, 250, 0)
+    right[4, 6] = (0, 0, 40)
+    census = [census_transform(view.mean(axis=2), tolerance=0.5) for view in (left, right)]
+    assert bin(int(census[0][4, 6] ^ census[1][4, 4])).count("1") == 1
+    volume = ad_census_cost(left, right, min_disparity=2, levels=1)
+    assert volume[4, 6, 0] == 0.0

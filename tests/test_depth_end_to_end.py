@@ -2,7 +2,7 @@
 im2 and im6 estimated from that pair alone, im4 synthesized from them (448x368 crop, the
 cameras of the synthesis case) and scored against the real im4.
 
-Measured Y-PSNR: 30.40 dB (general mode) and 30.39 dB (1D mode) with the default method;
+Measured Y-PSNR: 30.47 dB (general mode) and 30.60 dB (1D mode) with the default method;
 the ground-truth depth gives 30.52 and 30.71, OpenCV StereoSGBM's depth 28.49 and 28.80
 through the same synthesis (28.5 through VSRS 4.2, as the issue reports).
 """

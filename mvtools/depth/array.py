@@ -127,21 +127,23 @@ def estimate_array_disparity(
     0.210, but slightly worse in most of 15 other cases of the line (cameras 8 cm
     apart, other textures: 9 worse by at most 0.02, 4 better). Trimming the other
     view's map too scored better than both in most of these cases (Tsukuba 1.357) but
-    gave back more time than the planes saved.
+    gave back more time than the planes saved. (The figures of this paragraph are
+    from before AD-census counted only the neighbours like the centre in colour.)
 
-    Bad 1.0 % (``bp``): Tsukuba's view 3 (all known pixels) 1.56 from view 4 alone
-    (:func:`mvtools.depth.estimate_disparity`), 1.48 from views 2 to 4, 1.38 from all
-    five; Cones' view 2 (non-occluded pixels) 2.47 from view 6 alone, 2.03 from views
+    Bad 1.0 % (``bp``): Tsukuba's view 3 (all known pixels) 1.29 from view 4 alone
+    (:func:`mvtools.depth.estimate_disparity`), 1.24 from views 2 to 4, 1.19 from all
+    five; Cones' view 2 (non-occluded pixels) 2.28 from view 6 alone, 1.82 from views
     2, 4 and 6 at ``positions`` 0, 0.5, 1 (20.7 when the nearest pair's value was
     taken as it is: whole pixels of the pair 2-4 are two of the ground truth's).
+    Before AD-census counted only the neighbours like the centre in colour
+    (:func:`mvtools.depth.cost.ad_census_cost`): 1.56, 1.48, 1.38; 2.47 and 2.03.
 
     The time is that of one stereo-pair chain per other view, run side by side on the
     cores (:func:`side_by_side`), after the reference's colour segments and every view's
     census signatures (:func:`mvtools.depth.cost.ad_census_signatures`), made once for
-    all the pairs: five views of Tsukuba in 0.29 to 0.31 s on two cores, 1.7 to 2.0
-    times one pair's 0.15 to 0.18 s, timed in turn (1.1 to 1.2 as whole ``mvtools
-    estimate-depth`` runs, start-up included); as many cost volumes are held at once as
-    cores work.
+    all the pairs: five views of Tsukuba 1.6 to 1.8 times one pair's time on two cores,
+    timed in turn (1.1 to 1.2 as whole ``mvtools estimate-depth`` runs, start-up
+    included); as many cost volumes are held at once as cores work.
 
     Examples
     --------

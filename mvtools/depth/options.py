@@ -15,8 +15,8 @@ __all__ = ["COST_NAMES", "DEFAULT_METHOD", "VIEW_COMBINATIONS", "DepthOptions"]
 
 #: Method of both modes when none is given (``--method``, DERS's Method key): ``bp``, the
 #: best measured on all shared data together. Bad 1.0 % mean of the seven Middlebury
-#: pairs 3.95 (``sgm`` 4.14) in the stereo-pair mode, and of the eight DERS cases 4.30
-#: (``sgm`` 4.45); the synthesized Cones im4 30.35 dB (``sgm`` 30.13); on Kendo the fetch
+#: pairs 3.70 (``sgm`` 3.73) in the stereo-pair mode, and of the eight DERS cases 4.30
+#: (``sgm`` 4.45); the synthesized Cones im4 30.47 dB (``sgm`` 30.44); on Kendo the fetch
 #: error of view 3 into camera 1 a median of 1.49 grey levels (``sgm`` 1.55, the shipped
 #: depth 2.00); Poznan Hall 2's camera 7 from camera 5 with the estimated depth 34.85 dB
 #: (``sgm`` 34.91, the shipped depth 32.29).

@@ -97,8 +97,8 @@ def estimate_disparity(
         One of :data:`mvtools.depth.cost.COSTS`: ``"ad-census"``
         (:func:`~mvtools.depth.cost.ad_census_cost`), or ``"census-gradient"``
         (:func:`~mvtools.depth.cost.census_gradient_cost`), which lowers the mean bad 1.0
-        of ``bp`` from 3.95 to 3.47 (Moebius 7.31 to 5.06) but the synthesized Cones im4
-        from 30.35 to 30.08 dB; ``patchmatch`` uses it for its ``sgm`` start and the
+        of ``bp`` from 3.70 to 3.47 (Moebius 6.94 to 5.06) but the synthesized Cones im4
+        from 30.47 to 30.08 dB; ``patchmatch`` uses it for its ``sgm`` start and the
         segment planes, its own window costs otherwise.
     segment_planes : bool
         Colour segments of the left view whose robust disparity plane matches about as
@@ -135,19 +135,19 @@ def estimate_disparity(
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
     method, options             Tsukuba  Venus  Teddy  Cones  Art    Dolls  Moebius  s     im4
     ==========================  =======  =====  =====  =====  =====  =====  =======  ====  =====
-    ``bp`` (the default)        1.56     0.48   5.19   2.48   6.85   3.70   7.18     0.66  30.32
+    ``bp`` (the default)        1.29     0.54   4.84   2.27   6.26   3.73   6.94     0.66  30.47
     ``bp``, left view planes    1.73     0.54   5.59   2.45   6.85   3.75   7.35     0.73  30.31
     ``bp``, no segment planes   2.61     2.16   7.05   2.71   7.07   3.96   7.46     0.56  30.40
     ``bp``, sub-pixel           6.42     0.31   5.37   2.65   7.38   5.03   7.90
     ``bp``, segmentation        2.13     0.44   5.19   2.49   6.62   3.95   7.30
-    ``patchmatch``              2.23     0.44   5.70   2.31   6.11   4.21   7.96     9.0   30.91
+    ``patchmatch``              2.27     0.38   5.69   2.28   6.14   4.13   7.84     9.0   30.95
     ``patchmatch``, left planes 2.37     0.30   5.30   2.18   5.98   4.04   7.73     7.0   30.62
     ``patchmatch``, no planes   2.23     0.87   5.46   2.34   6.28   3.85   8.40     6.8   30.70
-    ``sgm``                     2.14     0.35   5.19   2.76   6.45   4.38   7.60     0.48  30.13
+    ``sgm``                     1.62     0.37   4.53   2.39   5.78   3.88   7.56     0.48  30.44
     ``sgm``, no segment planes  2.68     1.88   6.55   2.85   7.11   4.75   8.28     0.13  30.15
     ``sgm``, sub-pixel and seg. 4.49     0.22   5.37   2.93   7.16   5.77   8.15
-    ``graphcut``                2.15     0.68   7.81   2.44   6.93   3.93   7.10     5.2   30.19
-    ``local``                   2.80     0.34   6.23   3.06   8.06   5.14   8.27     1.2   30.03
+    ``graphcut``                2.08     0.75   7.54   2.21   6.13   3.76   6.09     5.2   30.64
+    ``local``                   2.26     0.31   5.69   2.72   7.42   5.15   8.44     1.2   30.46
     ``bp``, census-gradient     1.88     0.41   4.89   2.35   6.46   3.26   5.06     2.0   30.08
     ``graphcut``, cens.-grad.   2.59     0.44   5.69   2.30   6.37   3.29   5.17     5.0   30.11
     OpenCV StereoSGBM           5.66     3.06   15.3   7.22   16.5   10.8   10.8     0.04  28.49
@@ -155,17 +155,19 @@ def estimate_disparity(
 
     (s: seconds per Cones pair on two idle cores; the census-gradient rows were timed
     in a later session, when the default ``bp`` took 1.2 s.) The rows of ``bp``,
-    ``patchmatch``, ``sgm``, ``graphcut`` and ``local`` are measured with AD-census's
-    census tolerance of half a grey level (:data:`mvtools.depth.cost.CENSUS_TOLERANCE`;
-    without it ``bp`` had 1.68, 0.53, 5.08, 2.47, 6.83, 3.74, 7.31 and 30.35 dB), the other
-    rows before it. ``bp`` with integer levels and
-    segment planes is the default: the only combination under the bars of all four
-    2001/2003 pairs (Tsukuba 2.0, Venus 1.0, Teddy 6.0, Cones 3.0), and the lowest mean,
-    3.92 (3.95 before the census tolerance; ``patchmatch`` 4.05, eight times slower, gives
-    the best synthesized view).
+    ``patchmatch``, ``sgm``, ``graphcut`` and ``local`` are measured with AD-census
+    counting only the neighbours like the centre in colour
+    (:func:`mvtools.depth.cost.ad_census_cost`; before it ``bp`` had 1.56, 0.48, 5.19,
+    2.48, 6.85, 3.70, 7.18 and 30.32 dB, ``sgm`` 2.14, 0.35, 5.19, 2.76, 6.45, 4.38,
+    7.60 and 30.13 dB), their seconds before it (the like-colour masks add about 10 ms
+    a Cones view); the other rows before it and before the census tolerance of half a
+    grey level (:data:`mvtools.depth.cost.CENSUS_TOLERANCE`). ``bp`` with integer levels
+    and segment planes is the default: under the bars of all four 2001/2003 pairs
+    (Tsukuba 2.0, Venus 1.0, Teddy 6.0, Cones 3.0), and the lowest mean, 3.70 (``sgm``
+    3.73; ``patchmatch`` 4.10, many times slower, gives the best synthesized view).
     With ``cost="census-gradient"`` ``bp`` is under the bars of all seven pairs (mean
     3.47; Moebius 5.06 against a bar of 5.39, half of StereoSGBM's error), but its
-    synthesized view is 0.27 dB worse (1D mode: 29.75 against 30.31 dB), so AD-census
+    synthesized view is 0.39 dB worse (1D mode: 29.75 against 30.60 dB), so AD-census
     stays the default (:func:`mvtools.depth.cost.census_gradient_cost`, Notes). The
     plane selection and fattening trim run on both views, the right one as the left
     view of the mirrored pair, and the left-right check then compares the refined maps:
