@@ -583,10 +583,8 @@ def _ad_census_inputs(left, right, census_window, lambda_census, lambda_colour, 
     census_left, census_right = (
         np.ascontiguousarray(signature, np.uint64) for signature in signatures
     )
-    if census_left.shape != (*colour_left.shape[:2], 2) or census_right.shape != (
-        *colour_right.shape[:2],
-        2,
-    ):
+    fitting = [(*colour.shape[:2], 2) for colour in (colour_left, colour_right)]
+    if [census_left.shape, census_right.shape] != fitting:
         raise ValueError(
             f"census signatures of shapes {census_left.shape} and {census_right.shape} do "
             f"not fit views of {colour_left.shape[:2]} and {colour_right.shape[:2]}"
